@@ -1,0 +1,1 @@
+"""Arbitrary Lagrangian–Eulerian mesh motion and free-surface treatment (paper 3.2-3.4)."""

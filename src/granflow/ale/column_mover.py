@@ -1,0 +1,86 @@
+"""Mesh motion of a column over a rigid bed: ALE move, deposition, area conservation.
+
+Section 3.3: the step is limited so that no boundary node crosses the bed or the wall; a
+surface node that reaches the bed becomes a bed node and its edges change boundary
+condition (Figure 2). Nodes on the bed and wall are kept exactly on them.
+"""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.ale.free_surface import (
+    BoundaryChain,
+    conserve_area,
+    landing_time,
+    polygon_area,
+    segments_intersect,
+)
+from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver
+from granflow.geometry.mesh import BED, WALL
+
+LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
+
+
+class ColumnMover(AleMover):
+    """AleMover with the deposition procedure and an optional area-conserving correction."""
+
+    def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
+                 conserve_volume: bool = True) -> None:
+        super().__init__(mesh, velocity_solver)
+        self.chain = BoundaryChain(mesh)
+        self.conserve_volume = conserve_volume
+        self.initial_area = polygon_area(mesh.ngmesh.Coordinates(), self.chain.segments)
+        self.landed: np.ndarray = np.empty(0, dtype=np.int64)
+        self.relabelled_segments = 0
+        self.limited_steps = 0
+
+    def prepare(self, dt: float) -> float:
+        """Compute w^n once and shorten dt so that no boundary node crosses bed or wall."""
+        super().prepare(dt)
+        assert self.w_vertices is not None
+        xy = self.mesh.ngmesh.Coordinates()
+        bed, wall = self.chain.vertices(BED), self.chain.vertices(WALL)
+        candidates = np.setdiff1d(np.unique(self.chain.segments), np.union1d(bed, wall))
+        times = landing_time(xy, self.w_vertices, candidates)
+        t_min = float(times.min()) if times.size else np.inf
+        if t_min < dt:
+            dt = t_min
+            self.limited_steps += 1
+        self.landed = candidates[times <= dt * (1 + LANDING_TOLERANCE)]
+        return dt
+
+    def move(self, dt: float) -> None:
+        super().move(dt)
+        xy = self.mesh.ngmesh.Coordinates()
+        bed, wall = self.chain.vertices(BED), self.chain.vertices(WALL)
+        xy[bed, 1] = 0.0
+        xy[wall, 0] = 0.0
+        for v in self.landed:          # a landing node lands exactly on the bed or the wall
+            if xy[v, 1] <= abs(xy[v, 0]):
+                xy[v, 1] = 0.0
+            else:
+                xy[v, 0] = 0.0
+        if self.conserve_volume:
+            movable = self.chain.free_vertices()
+            movable = np.setdiff1d(movable, self.landed)
+            conserve_area(xy, self.chain.segments, movable, self.initial_area)
+
+    def check(self) -> str | None:
+        problem = super().check()
+        if problem is not None:
+            return problem
+        xy = self.mesh.ngmesh.Coordinates()
+        if np.any(xy[:, 1] < -1e-12) or np.any(xy[:, 0] < -1e-12):
+            return "a boundary node crossed the bed or the wall"
+        if segments_intersect(xy, self.chain.segments):
+            return "the boundary polygon self-intersects (the surface folded through)"
+        return None
+
+    def after_accept(self) -> None:
+        self.relabelled_segments += self.chain.deposit(tol=1e-12)
+        super().after_accept()
+
+    def area(self) -> float:
+        return polygon_area(self.mesh.ngmesh.Coordinates(), self.chain.segments)

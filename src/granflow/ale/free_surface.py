@@ -1,0 +1,128 @@
+"""The boundary of a column mesh: labels, deposition onto the bed (Figure 2), validity.
+
+Works on the live Netgen mesh: segment labels are relabelled in place, vertex positions
+are read from and written to ``Coordinates()``.
+"""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.geometry.mesh import BED, SURFACE, WALL
+
+
+class BoundaryChain:
+    """Boundary segments of a mesh with their labels (bed, wall, surface)."""
+
+    def __init__(self, mesh: ngs.Mesh) -> None:
+        self.mesh = mesh
+        names = [mesh.ngmesh.GetBCName(i) for i in range(len(mesh.GetBoundaries()))]
+        self.index = {name: names.index(name) + 1 for name in (BED, WALL, SURFACE)}
+
+    @property
+    def segments(self) -> np.ndarray:
+        """(ns, 2) zero-based vertex indices of the boundary segments."""
+        return self.mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
+
+    def labels(self) -> np.ndarray:
+        return self.mesh.ngmesh.Elements1D().NumPy()["index"].copy()
+
+    def vertices(self, label: str) -> np.ndarray:
+        """Vertices on at least one segment of ``label``."""
+        seg = self.segments[self.labels() == self.index[label]]
+        return np.unique(seg)
+
+    def free_vertices(self) -> np.ndarray:
+        """Surface vertices that touch neither the bed nor the wall."""
+        surface = self.vertices(SURFACE)
+        fixed = np.union1d(self.vertices(BED), self.vertices(WALL))
+        return np.setdiff1d(surface, fixed)
+
+    def surface_polyline(self) -> np.ndarray:
+        """Surface vertex coordinates ordered from the wall top to the front foot."""
+        xy = self.mesh.ngmesh.Coordinates()
+        seg = self.segments[self.labels() == self.index[SURFACE]]
+        nxt = {int(a): int(b) for a, b in seg}
+        starts = set(nxt) - {int(b) for b in seg[:, 1]}
+        start = min(starts, key=lambda v: xy[v, 0]) if starts else int(seg[0, 0])
+        chain, v = [start], start
+        while v in nxt and len(chain) <= len(seg):
+            v = nxt[v]
+            chain.append(v)
+        return xy[chain]
+
+    def deposit(self, tol: float) -> int:
+        """Relabel surface segments lying on the bed (Z <= tol) or wall (X <= tol)."""
+        xy = self.mesh.ngmesh.Coordinates()
+        e1 = self.mesh.ngmesh.Elements1D().NumPy()
+        seg = e1["nodes"][:, :2].astype(np.int64) - 1
+        surface = e1["index"] == self.index[SURFACE]
+        on_bed = surface & np.all(xy[seg, 1] <= tol, axis=1)
+        on_wall = surface & np.all(xy[seg, 0] <= tol, axis=1)
+        e1["index"][on_bed] = self.index[BED]
+        e1["index"][on_wall & ~on_bed] = self.index[WALL]
+        return int(on_bed.sum() + (on_wall & ~on_bed).sum())
+
+
+def landing_time(xy: np.ndarray, velocity: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """Time for each vertex to reach Z = 0 or X = 0 moving at ``velocity`` (inf if never)."""
+    p, w = xy[vertices], velocity[vertices]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_bed = np.where(w[:, 1] < 0, p[:, 1] / -w[:, 1], np.inf)
+        t_wall = np.where(w[:, 0] < 0, p[:, 0] / -w[:, 0], np.inf)
+    return np.minimum(t_bed, t_wall)
+
+
+def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
+    """True if two non-adjacent boundary segments cross (the surface folded through)."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    d = q - p
+    n = len(segments)
+    i, j = np.triu_indices(n, k=1)
+    share = np.any(segments[i][:, :, None] == segments[j][:, None, :], axis=(1, 2))
+    i, j = i[~share], j[~share]
+
+    def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+    r = cross(d[i], p[j] - p[i]), cross(d[i], q[j] - p[i])
+    s = cross(d[j], p[i] - p[j]), cross(d[j], q[i] - p[j])
+    return bool(np.any((r[0] * r[1] < 0) & (s[0] * s[1] < 0)))
+
+
+def area_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """d(area)/d(vertex position): half the sum of the outward normals x lengths around it."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    d = q - p
+    normal_len = np.column_stack([d[:, 1], -d[:, 0]])   # outward for a counter-clockwise loop
+    grad = np.zeros_like(xy)
+    np.add.at(grad, segments[:, 0], 0.5 * normal_len)
+    np.add.at(grad, segments[:, 1], 0.5 * normal_len)
+    return grad
+
+
+def polygon_area(xy: np.ndarray, segments: np.ndarray) -> float:
+    """Area enclosed by the oriented boundary segments (shoelace)."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    return float(0.5 * np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
+
+
+def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
+                  target: float, iterations: int = 3) -> float:
+    """Shift ``movable`` vertices along the area gradient so the polygon encloses ``target``.
+
+    The smallest displacement (in the least-squares sense) that restores the area: the
+    discrete velocity carries no net flux through the boundary (Taylor–Hood, integral of
+    div u_h = 0), so any area change comes from moving straight edges and is removed.
+    Returns the relative correction applied.
+    """
+    before = polygon_area(xy, segments)
+    for _ in range(iterations):
+        g = area_gradient(xy, segments)[movable]
+        denom = float(np.sum(g * g))
+        if denom == 0:
+            break
+        delta = (target - polygon_area(xy, segments)) / denom
+        xy[movable] += delta * g
+    return abs(polygon_area(xy, segments) - before) / abs(target)

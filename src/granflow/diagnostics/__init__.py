@@ -1,0 +1,1 @@
+"""Quantities read from the simulation state: errors, conservation, front, interface."""

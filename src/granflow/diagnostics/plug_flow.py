@@ -1,0 +1,35 @@
+"""Comparison of the 2D plug flow with the 1D reference solution of (4.1) (section 4)."""
+
+from __future__ import annotations
+
+import math
+
+import ngsolve as ngs
+import numpy as np
+
+
+def reference_field(mesh: ngs.Mesh, z: np.ndarray, u: np.ndarray) -> ngs.CoefficientFunction:
+    """(U_ref(Z), 0) as a coefficient function: the 1D profile extended in x (section 4)."""
+    x0, x1 = float(np.min(mesh.ngmesh.Coordinates()[:, 0])), float(
+        np.max(mesh.ngmesh.Coordinates()[:, 0]))
+    table = np.ascontiguousarray(np.tile(np.asarray(u, dtype=float)[:, None], (1, 2)))
+    profile = ngs.VoxelCoefficient((x0, float(z[0])), (x1, float(z[-1])), table, linear=True)
+    return ngs.CF((profile, 0.0))
+
+
+def velocity_relative_error_l2(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
+                               z: np.ndarray, u: np.ndarray) -> float:
+    """e_L2(u) = ||u_h - (U_ref, 0)||_L2 / ||U_ref||_L2 over the current domain."""
+    ref = reference_field(mesh, z, u)
+    diff = velocity - ref
+    err2 = ngs.Integrate(diff * diff, mesh, order=8)
+    norm2 = ngs.Integrate(ref * ref, mesh, order=8)
+    return math.sqrt(err2 / norm2)
+
+
+def vertical_profile(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, x: float,
+                     z: np.ndarray) -> np.ndarray:
+    """(len(z), 2) velocity samples along the vertical X = x."""
+    return np.array([velocity(mesh(x, float(zi))) for zi in z])
+
+

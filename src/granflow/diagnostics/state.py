@@ -1,0 +1,32 @@
+"""Scalar measures of the accepted state, one row of ``diagnostics.csv`` per step."""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.diagnostics.conservation import mesh_area
+from granflow.fem.sampling import cell_means
+
+FLOWING_SPEED = 1e-3  # m/s: a cell flows when |u| exceeds it (paper section 5.1.2)
+
+
+def flowing_cells(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
+                  threshold: float = FLOWING_SPEED) -> tuple[np.ndarray, np.ndarray]:
+    """Boolean flag per triangle (mean |u| > threshold) and the triangle areas."""
+    speed, areas = cell_means(mesh, ngs.Norm(velocity))
+    return speed > threshold, areas
+
+
+def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
+                   density: float) -> dict[str, float]:
+    """volume, kinetic_energy, max_speed (max cell-mean |u|), flowing_fraction (by area)."""
+    speed, areas = cell_means(mesh, ngs.Norm(velocity))
+    energy = 0.5 * density * ngs.Integrate(velocity * velocity, mesh, order=4)
+    flowing = speed > FLOWING_SPEED
+    return {
+        "volume": mesh_area(mesh),
+        "kinetic_energy": float(energy),
+        "max_speed": float(speed.max()),
+        "flowing_fraction": float(areas[flowing].sum() / areas.sum()),
+    }

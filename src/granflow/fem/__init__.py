@@ -1,0 +1,1 @@
+"""Finite-element discretisation with NGSolve: the only package that imports it."""

@@ -1,0 +1,1 @@
+"""Domains, boundary labels and meshes."""

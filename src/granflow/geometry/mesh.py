@@ -1,0 +1,121 @@
+"""Meshes of the built-in domains (labels: ``bed``, ``wall``, ``surface``)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import ngsolve as ngs
+import numpy as np
+from netgen.geom2d import SplineGeometry
+from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
+from netgen.meshing import Mesh as NgMesh
+from ngsolve.meshes import MakeStructured2DMesh
+
+BED, WALL, SURFACE = "bed", "wall", "surface"
+
+
+def periodic_layer_mesh(length: float, height: float, size: float,
+                        cells_x: int | None = None) -> ngs.Mesh:
+    """Structured triangles of [0, length] x [0, height], periodic in x (configuration (a)).
+
+    ``cells_x`` defaults to round(length / size); the vertical cell size is exactly
+    height / round(height / size).
+    """
+    ny = max(1, round(height / size))
+    nx = cells_x if cells_x is not None else max(2, round(length / size))
+    mesh = MakeStructured2DMesh(quads=False, nx=nx, ny=ny, periodic_x=True,
+                                mapping=lambda x, y: (length * x, height * y))
+    names = mesh.GetBoundaries()
+    mesh.ngmesh.SetBCName(names.index("bottom"), BED)
+    mesh.ngmesh.SetBCName(names.index("top"), SURFACE)
+    return ngs.Mesh(mesh.ngmesh)
+
+
+def signed_areas(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray:
+    """Signed areas of all triangles (positive = not inverted) for given vertex positions."""
+    xy = mesh.ngmesh.Coordinates() if coords is None else coords
+    tri = mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    a, b, c = xy[tri[:, 0]], xy[tri[:, 1]], xy[tri[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                  - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
+                 size: float) -> ngs.Mesh:
+    """Netgen triangulation of a labelled polygon, without corner triangles.
+
+    A triangle with two boundary edges flattens when the overturning front lands on the
+    bed; such corner triangles are removed by flipping their interior edge.
+    """
+    geo = SplineGeometry()
+    ids = [geo.AppendPoint(x, y) for x, y in points]
+    for i, label in enumerate(labels):
+        geo.Append(["line", ids[i], ids[(i + 1) % len(ids)]], bc=label,
+                   leftdomain=1, rightdomain=0)
+    ngmesh = geo.GenerateMesh(maxh=size)
+    xy = np.array([[p[0], p[1]] for p in ngmesh.Points()])
+    tri = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    seg = ngmesh.Elements1D().NumPy()
+    segments = seg["nodes"][:, :2].astype(np.int64) - 1
+    seg_labels = [ngmesh.GetBCName(int(i) - 1) for i in seg["index"]]
+    tri = flip_corner_triangles(xy, tri)
+    return build_mesh(xy, tri, segments, seg_labels)
+
+
+def build_mesh(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
+               seg_labels: Sequence[str]) -> ngs.Mesh:
+    """An NGSolve mesh from vertices, triangles and labelled boundary segments."""
+    ngmesh = NgMesh(dim=2)
+    pids = [ngmesh.Add(MeshPoint(Pnt(float(x), float(y), 0.0))) for x, y in xy]
+    domain = ngmesh.AddRegion("material", dim=2)
+    for a, b, c in tri:
+        ngmesh.Add(Element2D(domain, [pids[a], pids[b], pids[c]]))
+    regions: dict[str, int] = {}
+    for name in (BED, WALL, SURFACE):
+        regions[name] = ngmesh.AddRegion(name, dim=1)
+    for (a, b), name in zip(segments, seg_labels, strict=True):
+        ngmesh.Add(Element1D([pids[a], pids[b]], index=regions[name]))
+    return ngs.Mesh(ngmesh)
+
+
+def boundary_edge_counts(tri: np.ndarray) -> np.ndarray:
+    """Number of boundary edges of each triangle."""
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    _, inverse, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
+    on_boundary = (counts[inverse.ravel()] == 1).reshape(3, -1)
+    return on_boundary.sum(axis=0)
+
+
+def flip_corner_triangles(xy: np.ndarray, tri: np.ndarray, max_passes: int = 5) -> np.ndarray:
+    """Flip the interior edge of every triangle that has two boundary edges, when convex."""
+    tri = tri.copy()
+    for _ in range(max_passes):
+        corner = np.flatnonzero(boundary_edge_counts(tri) >= 2)
+        if corner.size == 0:
+            break
+        for t in corner:
+            _flip_interior_edge(xy, tri, t)
+    return tri
+
+
+def _flip_interior_edge(xy: np.ndarray, tri: np.ndarray, t: int) -> None:
+    a, b, c = tri[t]
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        # edge (p, q), opposite vertex r; find the neighbour across (p, q)
+        shares_p = np.any(tri == p, axis=1)
+        shares_q = np.any(tri == q, axis=1)
+        neighbours = np.flatnonzero(shares_p & shares_q)
+        neighbours = neighbours[neighbours != t]
+        if neighbours.size != 1:
+            continue
+        n = neighbours[0]
+        d = next(int(v) for v in tri[n] if v not in (p, q))
+        new1, new2 = np.array([r, p, d]), np.array([r, d, q])
+        if _area(xy, new1) > 0 and _area(xy, new2) > 0:
+            tri[t], tri[n] = new1, new2
+            return
+
+
+def _area(xy: np.ndarray, t: np.ndarray) -> float:
+    (x0, y0), (x1, y1), (x2, y2) = xy[t[0]], xy[t[1]], xy[t[2]]
+    return 0.5 * ((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0))

@@ -1,0 +1,112 @@
+"""Figures of a collapse run, like the paper's (Figures 7-9, 12-15), and an animation."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
+
+from granflow.io.plots import save_figure  # noqa: E402
+from granflow.io.run_dir import RunDir  # noqa: E402
+
+
+def _read(path: Path) -> dict[str, np.ndarray]:
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        return {}
+    return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan for r in rows])
+            for k in rows[0]}
+
+
+def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[float, dict]]:
+    out = []
+    for t in times:
+        path = run_dir.path(f"profiles/{kind}_t{t:.3f}.csv")
+        if path.exists():
+            out.append((t, _read(path)))
+    return out
+
+
+def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) -> None:
+    """Free surfaces, interfaces, velocity sections, front/energy history and a GIF."""
+    times = list(config.time.output_times)
+    width, height = config.geometry.width, config.geometry.height
+    fig, ax = plt.subplots(figsize=(8, 3))
+    for t, prof in _profiles(run_dir, "free_surface", times):
+        ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
+    ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect="equal")
+    ax.legend(fontsize=7)
+    save_figure(fig, run_dir.path("plots/free_surface.png"))
+
+    fig, ax = plt.subplots(figsize=(8, 3))
+    for t, prof in _profiles(run_dir, "interface", times):
+        line, = ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
+        surf = _profiles(run_dir, "free_surface", [t])
+        if surf:
+            ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
+    ax.set(xlabel="X (m)", ylabel="Z (m)", aspect="equal",
+           title="Static/flowing interface (|u| > 1 mm/s), dotted: free surface")
+    ax.legend(fontsize=7)
+    save_figure(fig, run_dir.path("plots/interface.png"))
+
+    sections = _profiles(run_dir, "velocity_sections", times)
+    if sections:
+        offsets = sorted({round(x, 6) for _, p in sections if p for x in p["section_x"]})
+        fig, axes = plt.subplots(2, len(offsets), figsize=(3.2 * len(offsets), 6),
+                                 squeeze=False, sharey=True)
+        for j, xs in enumerate(offsets):
+            for t, p in sections:
+                if not p:
+                    continue
+                m = np.isclose(p["section_x"], xs)
+                axes[0][j].plot(p["u_x"][m], p["z"][m], label=f"{t:.2f} s")
+                axes[1][j].plot(p["u_z"][m], p["z"][m])
+            axes[0][j].set_title(f"X = {xs * 100:.1f} cm")
+            axes[0][j].set_xlabel("U_X (m/s)")
+            axes[1][j].set_xlabel("U_Z (m/s)")
+        axes[0][0].set_ylabel("Z (m)")
+        axes[1][0].set_ylabel("Z (m)")
+        axes[0][0].legend(fontsize=7)
+        save_figure(fig, run_dir.path("plots/velocity_sections.png"))
+
+    diag = _read(run_dir.path("diagnostics.csv"))
+    if diag:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.2))
+        a1.plot(diag["t"], diag["front_x"])
+        a1.set(xlabel="t (s)", ylabel="front X (m)", title="Front position")
+        a2.plot(diag["t"], diag["kinetic_energy"])
+        a2.set(xlabel="t (s)", ylabel="kinetic energy (J/m)", title="Kinetic energy")
+        save_figure(fig, run_dir.path("plots/front_and_energy.png"))
+
+    if frames:
+        _animate(run_dir.path("plots/speed.gif"), frames, width, height)
+
+
+def _animate(path: Path, frames: list[dict[str, Any]], width: float, height: float) -> None:
+    xmax = max(f["xy"][:, 0].max() for f in frames) * 1.02
+    vmax = max(float(f["speed"].max()) for f in frames) or 1.0
+    fig, ax = plt.subplots(figsize=(8, 2.8))
+
+    def draw(i: int) -> None:
+        ax.clear()
+        f = frames[i]
+        ax.tripcolor(f["xy"][:, 0], f["xy"][:, 1], f["tri"], facecolors=f["speed"],
+                     vmin=0, vmax=vmax, cmap="viridis", edgecolors="none")
+        ax.plot(f["interface"][:, 0], f["interface"][:, 1], "r-", lw=1)
+        ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal",
+               title=f"|u| (0-{vmax:.2f} m/s), red: static/flowing interface, t = {f['t']:.3f} s")
+
+    anim = FuncAnimation(fig, draw, frames=len(frames))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp.gif")
+    anim.save(tmp, writer=PillowWriter(fps=10))
+    plt.close(fig)
+    tmp.replace(path)

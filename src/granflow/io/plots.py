@@ -1,0 +1,54 @@
+"""Matplotlib figures of a run (PNG, headless)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def save_figure(fig: plt.Figure, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp.png")
+    fig.savefig(tmp, dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    tmp.replace(path)
+
+
+def plot_plug_profile(path: Path, z: np.ndarray, u: np.ndarray, reference: np.ndarray,
+                      t: float) -> None:
+    """The 2D velocity along a vertical against the 1D reference of (4.1)."""
+    fig, ax = plt.subplots(figsize=(4.5, 5))
+    ax.plot(reference, z, "k-", lw=2, label="1D reference (4.1)")
+    ax.plot(u, z, "r--", lw=1.5, label="granflow 2D")
+    ax.set_xlabel("U (m/s)")
+    ax.set_ylabel("Z (m)")
+    ax.set_title(f"Plug flow, t = {t:.3f} s")
+    ax.legend(loc="upper left")
+    save_figure(fig, path)
+
+
+def plot_convergence_table(path: Path, results: list, table: int) -> None:
+    """Log-log error against dt, one line per dZ; the paper's values dashed."""
+    eps_values = sorted({r.eps for r in results}, reverse=True)
+    fig, axes = plt.subplots(1, len(eps_values), figsize=(4.2 * len(eps_values), 3.8),
+                             squeeze=False, sharey=True)
+    for ax, eps in zip(axes[0], eps_values, strict=True):
+        cells = [r for r in results if r.eps == eps]
+        for i, dz in enumerate(sorted({r.dZ for r in cells}, reverse=True)):
+            rows = sorted((r for r in cells if r.dZ == dz), key=lambda r: r.dt)
+            color = f"C{i}"
+            dts = [r.dt for r in rows]
+            ax.loglog(dts, [r.error for r in rows], "o-", color=color, label=f"dZ={dz:g} m")
+            ax.loglog(dts, [r.paper_error for r in rows], "s--", color=color, alpha=0.6,
+                      mfc="none")
+        ax.set_xlabel("dt (s)")
+        ax.set_title(f"Table {table}, eps = {eps:g} 1/s")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("relative L2 error of u at T")
+    axes[0][0].legend(title="solid: granflow\ndashed: paper", fontsize=8)
+    save_figure(fig, path)

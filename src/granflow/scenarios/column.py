@@ -1,0 +1,155 @@
+"""Collapse of a granular column over a rigid bed (configuration (b), sections 3 and 5)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.ale.column_mover import ColumnMover
+from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
+from granflow.config import Config
+from granflow.diagnostics import front as front_diag
+from granflow.diagnostics.interface import lower_envelope
+from granflow.diagnostics.state import flowing_cells
+from granflow.fem.flow import FlowSolver
+from granflow.fem.forms import FrictionWall
+from granflow.fem.sampling import triangles
+from granflow.geometry.domains import Polygon, column
+from granflow.geometry.mesh import BED, WALL, polygon_mesh
+from granflow.io.run_dir import RunDir
+from granflow.physics import CoulombFriction, DruckerPrager
+from granflow.scenarios.plug_flow import gravity_vector, step_policy
+from granflow.simulation.simulation import RunResult, Simulation
+
+SECTION_OFFSETS = (-0.10, 0.0, 0.10)  # m, around X_g = the initial front (section 5.2)
+
+
+@dataclass
+class ColumnCollapse:
+    """The assembled collapse: mesh, solver, moving mesh, loop, and its diagnostics."""
+
+    config: Config
+    polygon: Polygon
+    mesh: ngs.Mesh
+    solver: FlowSolver
+    mover: ColumnMover
+    simulation: Simulation
+    history: dict[str, list[float]] = field(
+        default_factory=lambda: {"t": [], "front_x": [], "flowing_fraction": [],
+                                 "kinetic_energy": [], "wall_height": []})
+    frames: list[dict[str, Any]] = field(default_factory=list)
+
+    # --- observers' side ---------------------------------------------------------------
+    def shape_measures(self) -> dict[str, float]:
+        xy = self.mesh.ngmesh.Coordinates()
+        return {"front_x": front_diag.front_position(xy),
+                "wall_height": front_diag.wall_height(xy)}
+
+    def record(self, row: dict[str, float]) -> None:
+        for key, values in self.history.items():
+            values.append(row[key])
+
+    def flowing(self) -> np.ndarray:
+        flags, _ = flowing_cells(self.mesh, self.solver.velocity)
+        return flags
+
+    def surface(self) -> np.ndarray:
+        return self.mover.chain.surface_polyline()
+
+    def interface(self, stations: np.ndarray) -> np.ndarray:
+        xy = self.mesh.ngmesh.Coordinates()
+        return lower_envelope(xy, triangles(self.mesh), self.flowing(), stations)
+
+    def sections(self) -> list[tuple[float, np.ndarray, np.ndarray]]:
+        """(X, Z samples, velocity samples) on the verticals X_g - 10 cm, X_g, X_g + 10 cm."""
+        surface = self.surface()
+        out = []
+        for dx in SECTION_OFFSETS:
+            x = self.config.geometry.width + dx
+            if not surface[:, 0].min() <= x <= surface[:, 0].max():
+                continue
+            top = float(np.interp(x, surface[::-1, 0], surface[::-1, 1]))
+            z = np.linspace(0.0, top, 41)[:-1] + 1e-9
+            u = np.array([self.solver.velocity(self.mesh(x, float(zi))) for zi in z])
+            out.append((x, z, u))
+        return out
+
+    def write_profiles(self, run_dir: RunDir, t: float) -> None:
+        surface = self.surface()
+        run_dir.write_csv(f"profiles/free_surface_t{t:.3f}.csv", ["x", "z"], surface.tolist())
+        rows = [[x, zi, ui[0], ui[1]] for x, z, u in self.sections()
+                for zi, ui in zip(z, u, strict=True)]
+        run_dir.write_csv(f"profiles/velocity_sections_t{t:.3f}.csv",
+                          ["section_x", "z", "u_x", "u_z"], rows)
+        stations = np.linspace(0.0, front_diag.front_position(self.mesh.ngmesh.Coordinates()),
+                               200)
+        run_dir.write_csv(f"profiles/interface_t{t:.3f}.csv", ["x", "z"],
+                          np.column_stack([stations, self.interface(stations)]).tolist())
+
+    def snapshot(self, sim: Simulation) -> None:
+        """A frame of the animation: mesh, cell speeds and the interface."""
+        from granflow.fem.sampling import cell_means
+
+        speed, _ = cell_means(self.mesh, ngs.Norm(self.solver.velocity))
+        xy = self.mesh.ngmesh.Coordinates().copy()
+        stations = np.linspace(0.0, xy[:, 0].max(), 120)
+        self.frames.append({"t": sim.t, "xy": xy, "tri": triangles(self.mesh), "speed": speed,
+                            "interface": np.column_stack([stations, self.interface(stations)])})
+
+    def summary(self, result: RunResult) -> dict[str, Any]:
+        h = {k: np.asarray(v) for k, v in self.history.items()}
+        xy = self.mesh.ngmesh.Coordinates()
+        return {
+            "runout_m": front_diag.front_position(xy),
+            "stop_time_s": front_diag.stop_time(h["t"], h["flowing_fraction"]),
+            "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_x"]),
+            "wall_height_m": front_diag.wall_height(xy),
+            "initial_area_m2": self.mover.initial_area,
+            "deposited_segments": self.mover.relabelled_segments,
+            "dt_limited_steps": self.mover.limited_steps,
+            "min_triangle_area_m2": float(np.min(_areas(self.mesh))),
+        }
+
+    def plot(self, run_dir: RunDir) -> None:
+        from granflow.io.collapse_plots import plot_collapse
+
+        plot_collapse(run_dir, self.config, self.frames)
+
+
+def _areas(mesh: ngs.Mesh) -> np.ndarray:
+    from granflow.geometry.mesh import signed_areas
+
+    return signed_areas(mesh)
+
+
+def build_column(config: Config) -> ColumnCollapse:
+    """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
+    geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
+    polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
+                     geo.erodible_thickness, geo.bed_length)
+    mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size)
+    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                             eps=num.eps)
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction)),
+             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
+    force = gravity_vector(mat.gravity, geo.slope_deg)
+    solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
+                        walls=walls, penalty=bnd.penalty)
+    xy = mesh.ngmesh.Coordinates()
+    heights = np.array([polygon.surface_height(x) for x in xy[:, 0]])
+    pressure = ngs.GridFunction(ngs.H1(mesh, order=1))
+    pressure.vec.FV().NumPy()[:] = -mat.density * force[1] * np.maximum(heights - xy[:, 1], 0)
+    solver.set_state(ngs.CF((0.0, 0.0)), pressure)                  # at rest, hydrostatic
+    velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
+        ElasticMeshVelocity)
+    mover = ColumnMover(mesh, velocity_cls(mesh, solver.velocity, solver.mesh_velocity,
+                                           num.mesh_penalty),
+                        conserve_volume=getattr(num, "volume_correction", True))
+    simulation = Simulation(solver=solver, steps_policy=step_policy(config),
+                            t_end=config.time.t_end, max_iterations=num.max_iterations,
+                            mesh_motion=mover)
+    return ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
+                          mover=mover, simulation=simulation)

@@ -1,0 +1,120 @@
+"""Periodic plug flow on an incline (configuration (a), paper section 4)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.ale.mesh_motion import AleMover, VerticalMeshVelocity
+from granflow.config import Config
+from granflow.diagnostics.plug_flow import velocity_relative_error_l2, vertical_profile
+from granflow.fem.flow import FlowSolver
+from granflow.geometry.mesh import BED, periodic_layer_mesh
+from granflow.io.run_dir import RunDir
+from granflow.physics import DruckerPrager
+from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
+from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.timestep import FixedStep, RampedStep
+
+
+def gravity_vector(gravity: float, slope_deg: float) -> tuple[float, float]:
+    """f = (g sin theta, -g cos theta) in the bed-aligned frame (X, Z) (section 2.1)."""
+    theta = math.radians(slope_deg)
+    return gravity * math.sin(theta), -gravity * math.cos(theta)
+
+
+@dataclass
+class PlugFlow:
+    """The assembled plug-flow problem: mesh, solver, time loop and its outputs."""
+
+    config: Config
+    mesh: ngs.Mesh
+    solver: FlowSolver
+    simulation: Simulation
+    _references: dict[float, Plug1DSolution] = field(default_factory=dict)
+
+    def reference(self, t: float) -> Plug1DSolution:
+        """The independent 1D solution of (4.1) at time t (cached)."""
+        key = round(t, 12)
+        if key not in self._references:
+            c = self.config
+            self._references[key] = solve_plug1d(
+                height=c.geometry.height, slope_deg=c.geometry.slope_deg,
+                friction_angle_deg=c.material.friction_angle_deg,
+                kinematic_viscosity=c.material.viscosity / c.material.density,
+                shear_rate=c.initial.shear_rate, plug_base=c.initial.plug_base, t_end=t,
+                gravity=c.material.gravity)
+        return self._references[key]
+
+    def velocity_error(self, t: float) -> float:
+        ref = self.reference(t)
+        return velocity_relative_error_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
+
+    def shape_measures(self) -> dict[str, float]:
+        return {}
+
+    def record(self, row: dict[str, float]) -> None:
+        pass
+
+    def profile(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Z, the 2D velocity along the mid vertical and the 1D reference, at time t."""
+        z = np.linspace(0.0, self.config.geometry.height, 481)
+        z[-1] -= 1e-9  # stay inside the mesh
+        u = vertical_profile(self.mesh, self.solver.velocity, self.config.geometry.length / 2, z)
+        return z, u, self.reference(t)(z)
+
+    def write_profiles(self, run_dir: RunDir, t: float) -> None:
+        z, u, ref = self.profile(t)
+        run_dir.write_csv(f"profiles/velocity_t{t:.3f}.csv", ["z", "u_x", "u_z", "u_reference"],
+                          np.column_stack([z, u, ref]).tolist())
+
+    def summary(self, result: RunResult) -> dict[str, Any]:
+        ref = self.reference(result.t_final) if result.t_final > 0 else None
+        return {
+            "velocity_relative_error_l2": self.velocity_error(result.t_final) if ref else None,
+            "reference_interface_m": ref.interface if ref else None,
+        }
+
+    def plot(self, run_dir: RunDir) -> None:
+        from granflow.io.plots import plot_plug_profile
+
+        t = self.simulation.t
+        z, u, ref = self.profile(t)
+        plot_plug_profile(run_dir.path("plots/velocity_profile.png"), z, u[:, 0], ref, t)
+
+
+def step_policy(config: Config) -> FixedStep | RampedStep:
+    """The fixed step when ``time.dt`` is set, else the ramp of section 3.1."""
+    tm, num = config.time, config.numerics
+    if tm.dt is not None:
+        return FixedStep(t_end=tm.t_end, dt=tm.dt, tol=num.tol)
+    return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
+                      tol=num.tol, tol_init=num.tol_init or num.tol, stops=list(tm.output_times))
+
+
+def build_plug_flow(config: Config) -> PlugFlow:
+    """Mesh, initial state U0 = alpha1 [Z - b0]_+ with hydrostatic pressure, and the loop."""
+    geo, mat = config.geometry, config.material
+    mesh = periodic_layer_mesh(geo.length, geo.height, config.mesh.size, config.mesh.cells_x)
+    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                             eps=config.numerics.eps)
+    force = gravity_vector(mat.gravity, geo.slope_deg)
+    solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
+                        periodic=True, dirichlet=BED)
+    z = ngs.y
+    alpha, base = config.initial.shear_rate, config.initial.plug_base
+    solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
+                     -mat.density * force[1] * (geo.height - z))          # hydrostatic p
+    motion = None
+    if config.numerics.mesh_velocity == "vertical":
+        w_solver = VerticalMeshVelocity(mesh, solver.velocity, solver.mesh_velocity,
+                                        penalty=config.numerics.mesh_penalty)
+        motion = AleMover(mesh, w_solver)
+    simulation = Simulation(solver=solver, steps_policy=step_policy(config),
+                            t_end=config.time.t_end,
+                            max_iterations=config.numerics.max_iterations, mesh_motion=motion)
+    return PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)

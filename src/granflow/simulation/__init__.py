@@ -1,0 +1,1 @@
+"""The time loop, its step-size policy and its observers."""

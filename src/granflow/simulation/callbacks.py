@@ -1,0 +1,68 @@
+"""Observers of the time loop and the schedules that trigger them; they only read."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+from tqdm import tqdm
+
+if TYPE_CHECKING:
+    from granflow.simulation.simulation import Simulation
+
+Action = Callable[["Simulation"], None]
+
+
+class AtTimes:
+    """Run ``action`` once when the loop reaches each of ``times`` (the steps hit them)."""
+
+    def __init__(self, times: Sequence[float], action: Action) -> None:
+        self.pending = sorted(times)
+        self.action = action
+
+    def __call__(self, sim: Simulation) -> None:
+        while self.pending and sim.t >= self.pending[0] - 1e-9 * max(1.0, self.pending[0]):
+            self.pending.pop(0)
+            self.action(sim)
+
+
+class EveryNSteps:
+    """Run ``action`` every ``n`` accepted steps (never when n == 0)."""
+
+    def __init__(self, n: int, action: Action) -> None:
+        self.n, self.action = n, action
+
+    def __call__(self, sim: Simulation) -> None:
+        if self.n > 0 and sim.step % self.n == 0:
+            self.action(sim)
+
+
+class ProgressBar:
+    """A tqdm bar over simulated time showing dt, iterations and an ETA."""
+
+    def __init__(self, t_end: float, enabled: bool = True) -> None:
+        self.bar = tqdm(total=t_end, unit="s", disable=not enabled, dynamic_ncols=True,
+                        bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}<{remaining}]"
+                        "{postfix}")
+
+    def __call__(self, sim: Simulation) -> None:
+        self.bar.update(sim.dt)
+        report = sim.last_report
+        self.bar.set_postfix_str(
+            f"dt={sim.dt:.2e} it={report.iterations if report else 0}", refresh=False)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+class TimeInterval:
+    """Run ``action`` each time simulated time crosses a multiple of ``interval``."""
+
+    def __init__(self, interval: float, action: Action) -> None:
+        self.interval, self.action, self.next = interval, action, interval
+
+    def __call__(self, sim: Simulation) -> None:
+        if self.interval > 0 and sim.t >= self.next - 1e-12:
+            self.action(sim)
+            while self.next <= sim.t + 1e-12:
+                self.next += self.interval

@@ -1,0 +1,23 @@
+"""Shared fixtures: run the ``granflow`` command in a fresh folder."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+
+@pytest.fixture
+def granflow_cli(tmp_path: Path) -> Callable[..., subprocess.CompletedProcess[str]]:
+    """Run ``python -m granflow ARGS`` with cwd = tmp_path; returns the completed process."""
+
+    def run(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
+        env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+        return subprocess.run([sys.executable, "-m", "granflow", *args], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=timeout, env=env)
+
+    return run

@@ -1,0 +1,239 @@
+"""Configuration: layering, validation messages, built-in scenarios and the TOML round trip."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pydantic
+import pytest
+
+from granflow.config import (
+    CUSTOM,
+    Config,
+    ConfigError,
+    apply_overrides,
+    builtin_scenarios,
+    config_to_toml,
+    load_config,
+)
+
+CONTRACT_SCENARIOS = {"plug-flow", "trapezoid-rigid", "rectangle-rigid", "trapezoid-erodible"}
+
+
+def error_of(source: str | Path = "plug-flow", *overrides: str) -> str:
+    with pytest.raises(ConfigError) as info:
+        load_config(source, overrides)
+    message = str(info.value)
+    assert "\n" not in message
+    return message
+
+
+# ---------------------------------------------------------------- built-in scenarios
+
+
+def test_builtin_scenarios_are_the_contract_ones_with_descriptions() -> None:
+    scenarios = builtin_scenarios()
+    assert set(scenarios) == CONTRACT_SCENARIOS
+    assert all(len(text) > 20 and "\n" not in text for text in scenarios.values())
+
+
+@pytest.mark.parametrize("name", sorted(CONTRACT_SCENARIOS))
+def test_every_builtin_scenario_loads(name: str) -> None:
+    config = load_config(name)
+    assert config.scenario == name
+    assert all(0 < t <= config.time.t_end for t in config.time.output_times)
+
+
+def test_plug_flow_is_the_papers_section_4() -> None:
+    c = load_config("plug-flow")
+    assert c.geometry.kind == "periodic-layer"
+    assert (c.geometry.slope_deg, c.geometry.length, c.geometry.height) == (1.0, 1.5, 6.0)
+    assert c.material.mu_s == pytest.approx(math.tan(math.radians(1.0)) + 1e-2, rel=1e-15)
+    assert c.material.kinematic_viscosity == pytest.approx(1.0)
+    assert (c.initial.shear_rate, c.initial.plug_base) == (1.0, 3.5)
+    assert (c.mesh.size, c.numerics.eps, c.numerics.tol) == (0.125, 1e-6, 1e-7)
+    assert (c.time.t_end, c.time.dt, c.time.output_times) == (0.2, 3.12e-3, [0.2])
+    assert c.numerics.mesh_velocity == "fixed"
+
+
+def test_collapse_scenarios_match_the_papers_section_5() -> None:
+    shapes = {name: load_config(name).geometry for name in CONTRACT_SCENARIOS - {"plug-flow"}}
+    assert (shapes["trapezoid-rigid"].width, shapes["trapezoid-rigid"].height) == (0.297, 0.25)
+    assert shapes["rectangle-rigid"].shape == "rectangle"
+    assert shapes["trapezoid-erodible"].erodible_thickness == 0.005
+    c = load_config("trapezoid-rigid")
+    assert c.boundary.mu_bed == pytest.approx(math.tan(math.radians(25.5)))
+    assert c.boundary.mu_wall == pytest.approx(math.tan(math.radians(10.2)))
+    assert (c.time.dt, c.time.dt_init, c.time.dt_max) == (None, 1e-8, 1e-4)
+
+
+# ---------------------------------------------------------------- files and layering
+
+
+def test_file_inherits_from_a_builtin_and_set_overrides_the_file(tmp_path: Path) -> None:
+    path = tmp_path / "mine.toml"
+    path.write_text('scenario = "plug-flow"\n[time]\nt_end = 0.1\noutput_times = [0.05]\n')
+    config = load_config(path, ["time.t_end=0.08"])
+    assert config.scenario == "plug-flow"
+    assert config.time.t_end == 0.08  # --set beats the file
+    assert config.time.output_times == [0.05]  # the file beats the scenario
+    assert config.time.dt == 3.12e-3  # the scenario beats the defaults
+    assert config.output.checkpoint_every == 0  # package default
+
+
+def test_file_without_scenario_starts_from_the_package_defaults(tmp_path: Path) -> None:
+    path = tmp_path / "col.toml"
+    path.write_text('[geometry]\nkind = "column"\nheight = 0.2\n')
+    config = load_config(str(path))
+    assert config.scenario == CUSTOM
+    assert (config.material.density, config.geometry.width, config.mesh.size) == (
+        1550.0, 0.297, 0.025)
+
+
+def test_geometry_kind_has_no_default(tmp_path: Path) -> None:
+    path = tmp_path / "empty.toml"
+    path.write_text("")
+    assert error_of(path).startswith("geometry.kind is not set")
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("[numerics]\nepsilon = 1e-4\n",
+     "unknown configuration key 'numerics.epsilon' (known keys in [numerics]: eps, eps_friction"),
+    ("[numeric]\neps = 1e-4\n", "unknown configuration section 'numeric'"),
+    ("eps = 1e-4\n", "unknown configuration section 'eps'"),
+    ('scenario = "plug-flo"\n', "unknown scenario 'plug-flo'"),
+    ("[time\n", "cannot read scenario file"),
+])
+def test_bad_files_are_reported(tmp_path: Path, text: str, expected: str) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert expected in error_of(path)
+
+
+def test_missing_file_and_unknown_name() -> None:
+    assert "not found" in error_of("no/such/file.toml")
+    assert error_of("plugflow").startswith("unknown scenario 'plugflow'; built-in scenarios:")
+
+
+# ---------------------------------------------------------------- --set values
+
+
+@pytest.mark.parametrize("assignment, section, key, value", [
+    ("numerics.eps=1e-4", "numerics", "eps", 1e-4),
+    ("numerics.max_iterations=20", "numerics", "max_iterations", 20),
+    ("time.output_times=[0.1, 0.2]", "time", "output_times", [0.1, 0.2]),
+    ("numerics.mesh_velocity=vertical", "numerics", "mesh_velocity", "vertical"),
+    ('numerics.mesh_velocity="vertical"', "numerics", "mesh_velocity", "vertical"),
+    ("output.progress=false", "output", "progress", False),
+    ("time.dt=none", "time", "dt", None),
+    ("mesh.cells_x=4", "mesh", "cells_x", 4),
+    ("surface_tension.gamma0=0.5", "surface_tension", "gamma0", 0.5),
+    ("mesh.size=.25", "mesh", "size", 0.25),
+])
+def test_set_values_are_toml_literals(assignment: str, section: str, key: str,
+                                      value: object) -> None:
+    config = load_config("plug-flow", [assignment])
+    assert getattr(getattr(config, section), key) == value
+
+
+def test_apply_overrides_revalidates() -> None:
+    config = apply_overrides(load_config("plug-flow"), ["time.t_end=0.1", "time.output_times=[]"])
+    assert config.time.t_end == 0.1
+    with pytest.raises(ConfigError, match="time.output_times"):
+        apply_overrides(config, ["time.output_times=[0.5]"])
+
+
+def test_config_is_frozen() -> None:
+    config = load_config("plug-flow")
+    with pytest.raises(pydantic.ValidationError):
+        config.numerics.eps = 1.0  # type: ignore[misc]
+
+
+# ---------------------------------------------------------------- validation messages
+
+
+@pytest.mark.parametrize("assignment, expected", [
+    ("numerics.eps=-1", "numerics.eps = -1: must be a number > 0"),
+    ("numerics.eps=0", "numerics.eps = 0: must be a number > 0"),
+    ("numerics.eps=abc", "numerics.eps = 'abc': must be a number > 0"),
+    ("numerics.epsilon=1", "unknown configuration key 'numerics.epsilon' (known keys in"),
+    ("numeric.eps=1", "unknown configuration section 'numeric'"),
+    ("eps=1", "unknown configuration key 'eps'"),
+    ("numerics.eps", "--set expects section.key=value"),
+    ("material.friction_angle_deg=0", "friction_angle_deg = 0: must be a number in (0, 90)"),
+    ("material.friction_angle_deg=90", "friction_angle_deg = 90: must be a number in (0, 90)"),
+    ("time.dt=0", "time.dt = 0: must be a number > 0 or none"),
+    ("time.dt=-1e-3", "time.dt = -0.001: must be a number > 0 or none"),
+    ("time.dt_init=1.0", "time.dt_init = 1.0 must not exceed time.dt_max = 0.0001"),
+    ("time.output_times=[0.3]", "time.output_times = [0.3]: 0.3 is not in (0, time.t_end = 0.2]"),
+    ("time.output_times=[0.1, 0.05]", "time.output_times = [0.1, 0.05]: must be increasing"),
+    ("mesh.size=2.0", "mesh.size = 2.0 must not exceed min(geometry.length, geometry.height)"),
+    ("initial.plug_base=7", "geometry.height = 6.0 must be greater than initial.plug_base = 7.0"),
+    ("geometry.slope_deg=5", "material.friction_angle_deg = 1.572664278105208 must be >= geometry"),
+    ("numerics.tol=1", "numerics.tol = 1: must be a number in (0, 1)"),
+    ("numerics.max_iterations=0", "numerics.max_iterations = 0: must be an integer >= 1"),
+    ("numerics.max_iterations=2.5", "numerics.max_iterations = 2.5: must be an integer >= 1"),
+    ("mesh.cells_x=1", "mesh.cells_x = 1: must be an integer >= 2 or none"),
+    ("output.progress=yes", "output.progress = 'yes': must be true or false"),
+    ("numerics.linearization=secant", "must be one of 'picard', 'newton'"),
+    ("surface_tension.gamma0=-1", "surface_tension.gamma0 = -1: must be 'auto' or a number >= 0"),
+    ("time.output_times=0.2", "time.output_times = 0.2: must be a list of numbers"),
+    ("numerics.eps=nan", "numerics.eps = nan: must be a number > 0"),
+])
+def test_invalid_values_give_one_line_naming_the_key(assignment: str, expected: str) -> None:
+    assert expected in error_of("plug-flow", assignment)
+
+
+@pytest.mark.parametrize("assignment, expected", [
+    ("mesh.size=0.3", "mesh.size = 0.3 must not exceed min(geometry.width, geometry.height)"),
+    ("geometry.bed_length=0.2", "geometry.bed_length = 0.2 must be greater than geometry.width"),
+    ("geometry.erodible_thickness=0.3", "geometry.erodible_thickness = 0.3 must be less than"),
+    ("geometry.front_angle_deg=10", "geometry.front_angle_deg = 10.0 is too shallow"),
+])
+def test_column_geometry_checks(assignment: str, expected: str) -> None:
+    assert expected in error_of("trapezoid-rigid", assignment)
+
+
+@pytest.mark.parametrize("source, assignment, key", [
+    ("trapezoid-rigid", "numerics.linearization=newton", "numerics.linearization = 'newton'"),
+    ("trapezoid-rigid", "material.rheology=mu-i", "material.rheology = 'mu-i'"),
+    ("trapezoid-rigid", "time.adaptive=true", "time.adaptive = true"),
+    ("trapezoid-erodible", "surface_tension.enabled=true", "surface_tension.enabled = true"),
+])
+def test_reserved_choices_say_not_implemented_yet(source: str, assignment: str, key: str) -> None:
+    assert error_of(source, assignment).startswith(f"{key} is not implemented yet")
+
+
+@pytest.mark.parametrize("velocity", ["elastic", "lagrange"])
+def test_periodic_layer_refuses_free_surface_mesh_velocities(velocity: str) -> None:
+    assert error_of("plug-flow", f"numerics.mesh_velocity={velocity}") == (
+        f"numerics.mesh_velocity = '{velocity}' is not available for geometry.kind = "
+        "'periodic-layer'; use 'fixed' or 'vertical'")
+
+
+# ---------------------------------------------------------------- round trip
+
+
+@pytest.mark.parametrize("name, overrides", [
+    *[(name, []) for name in sorted(CONTRACT_SCENARIOS)],
+    ("plug-flow", ["time.dt=none", "mesh.cells_x=4", "numerics.tol_init=1e-3"]),
+    ("trapezoid-rigid", ["surface_tension.gamma0=0.25", "time.dt=1e-3", "output.progress=false"]),
+])
+def test_config_to_toml_round_trips(tmp_path: Path, name: str, overrides: list[str]) -> None:
+    config = load_config(name, overrides)
+    path = tmp_path / "config.toml"
+    path.write_text(config_to_toml(config))
+    again = load_config(path)
+    assert isinstance(again, Config)
+    assert again == config
+    assert config_to_toml(again) == config_to_toml(config)
+
+
+def test_custom_config_round_trips(tmp_path: Path) -> None:
+    source = tmp_path / "col.toml"
+    source.write_text('[geometry]\nkind = "column"\nheight = 0.2\n')
+    config = load_config(source)
+    path = tmp_path / "config.toml"
+    path.write_text(config_to_toml(config))
+    assert load_config(path) == config

@@ -1,0 +1,168 @@
+"""Run directory: creation rules, atomic whole-file writes, append-only CSV logs."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from granflow.config import config_to_toml, load_config
+from granflow.io.run_dir import CsvLog, RunDir, RunDirError
+
+
+def read_csv(path: Path) -> list[list[str]]:
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+def files_in(folder: Path) -> list[str]:
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file())
+
+
+# ---------------------------------------------------------------- creation
+
+
+def test_create_makes_nested_folders(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path / "runs" / "a")
+    assert run.root.is_dir()
+
+
+def test_create_accepts_an_empty_folder_and_a_previous_run(tmp_path: Path) -> None:
+    RunDir.create(tmp_path)  # empty
+    run = RunDir.create(tmp_path / "run")
+    run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    assert RunDir.is_run_dir(run.root)
+    RunDir.create(run.root)
+
+
+def test_create_refuses_a_foreign_non_empty_folder_or_a_file(tmp_path: Path) -> None:
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(RunDirError, match="not empty and is not a granflow run directory"):
+        RunDir.create(tmp_path)
+    (tmp_path / "config.toml").write_text("[tool]\n")  # someone else's config
+    with pytest.raises(RunDirError):
+        RunDir.create(tmp_path)
+    with pytest.raises(RunDirError, match="not a folder"):
+        RunDir.create(tmp_path / "notes.txt")
+    assert files_in(tmp_path) == ["config.toml", "notes.txt"]
+
+
+def test_path_creates_parents_and_stays_inside(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path / "run")
+    path = run.path("profiles/free_surface_t0.180.csv")
+    assert path.parent.is_dir() and not path.exists()
+    with pytest.raises(RunDirError, match="outside the run directory"):
+        run.path("../escape.txt")
+
+
+# ---------------------------------------------------------------- atomic writes
+
+
+def test_writes_leave_only_the_targets(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    run.write_text("config.toml", "# granflow\n")
+    run.write_json("summary.json", {"status": "completed"})
+    run.write_csv("profiles/free_surface_t0.200.csv", ["x", "z"], [[0.0, 1.0], [0.5, 0.25]])
+    run.write_text("config.toml", "# granflow, again\n")  # replacing is atomic too
+    assert files_in(tmp_path) == ["config.toml", "profiles/free_surface_t0.200.csv",
+                                  "summary.json"]
+    assert (tmp_path / "config.toml").read_text() == "# granflow, again\n"
+    assert read_csv(tmp_path / "profiles/free_surface_t0.200.csv") == [
+        ["x", "z"], ["0.0", "1.0"], ["0.5", "0.25"]]
+    assert oct((tmp_path / "summary.json").stat().st_mode & 0o777) == oct(0o644)
+
+
+def test_json_writes_nan_and_inf_as_null_and_numpy_as_numbers(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    run.write_json("summary.json", {
+        "stop_time_s": math.nan, "runout_m": np.float64(0.61), "steps": np.int64(12),
+        "bad": [math.inf, -math.inf, np.float32("nan")], "profile": np.array([1.0, 2.0]),
+        "nested": {"ok": True, "none": None}})
+    text = (tmp_path / "summary.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    assert text.startswith('{\n  "stop_time_s": null')
+    assert json.loads(text) == {
+        "stop_time_s": None, "runout_m": 0.61, "steps": 12, "bad": [None, None, None],
+        "profile": [1.0, 2.0], "nested": {"ok": True, "none": None}}
+
+
+def test_a_failed_write_keeps_the_old_file_and_no_temp(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    run.write_json("summary.json", {"status": "running"})
+    with pytest.raises(TypeError):
+        run.write_json("summary.json", {"status": object()})
+    with pytest.raises(RuntimeError), run.atomic_path("plots/front.png") as tmp:
+        tmp.write_bytes(b"half a figure")
+        raise RuntimeError("plot failed")
+    assert files_in(tmp_path) == ["summary.json"]
+    assert json.loads((tmp_path / "summary.json").read_text()) == {"status": "running"}
+
+
+def test_atomic_path_keeps_the_suffix_and_renames_on_success(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    with run.atomic_path("fields/fields_00000.vtu") as tmp:
+        assert tmp.suffix == ".vtu" and tmp.parent == tmp_path / "fields"
+        tmp.write_text("<VTKFile/>")
+    assert files_in(tmp_path) == ["fields/fields_00000.vtu"]
+
+
+# ---------------------------------------------------------------- CSV logs
+
+
+HEADER = ["t", "dt", "iterations"]
+
+
+def test_csv_log_rows_are_readable_while_the_log_is_open(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    log = run.csv_log("diagnostics.csv", HEADER)
+    log.append([0.1, 1e-3, 4])
+    log.append({"dt": 2e-3, "t": 0.2, "iterations": 3, "ignored": 0})
+    assert read_csv(tmp_path / "diagnostics.csv") == [
+        HEADER, ["0.1", "0.001", "4"], ["0.2", "0.002", "3"]]
+    with pytest.raises(ValueError, match="2 values"):
+        log.append([0.3, 1e-3])
+    with pytest.raises(ValueError, match="lacks"):
+        log.append({"t": 0.3})
+    log.close()
+    log.close()  # closing twice is harmless
+
+
+def test_csv_log_starts_afresh_or_resumes_with_the_same_header(tmp_path: Path) -> None:
+    path = tmp_path / "diagnostics.csv"
+    with CsvLog(path, HEADER) as log:
+        log.append([0.1, 1e-3, 4])
+    with CsvLog(path, HEADER, resume=True) as log:
+        log.append([0.2, 1e-3, 5])
+    assert len(read_csv(path)) == 3
+    with pytest.raises(RunDirError, match="header"):
+        CsvLog(path, ["t", "volume"], resume=True)
+    with CsvLog(path, HEADER):
+        pass
+    assert read_csv(path) == [HEADER]
+
+
+def test_a_killed_process_leaves_every_finished_file_readable(tmp_path: Path) -> None:
+    script = textwrap.dedent(f"""
+        import os, signal
+        from pathlib import Path
+        from granflow.io.run_dir import RunDir
+        run = RunDir.create(Path({str(tmp_path)!r}) / "run")
+        run.write_json("summary.json", {{"status": "running"}})
+        log = run.csv_log("diagnostics.csv", ["t", "volume"])
+        for i in range(5):
+            log.append([0.1 * i, 1.0])
+        os.kill(os.getpid(), signal.SIGKILL)
+    """)
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
+    assert proc.returncode != 0
+    run = tmp_path / "run"
+    assert files_in(run) == ["diagnostics.csv", "summary.json"]
+    assert json.loads((run / "summary.json").read_text()) == {"status": "running"}
+    assert len(read_csv(run / "diagnostics.csv")) == 6
