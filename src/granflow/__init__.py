@@ -5,4 +5,10 @@ Importing the package is cheap: the finite-element engine is imported only by th
 that need it.
 """
 
+import os
+
+# One BLAS thread: on these 2D problems extra threads only contend (DESIGN.md, measured
+# facts); set before numpy or NGSolve load OpenBLAS. An explicit user setting wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 __version__ = "0.1.0"

@@ -22,7 +22,7 @@ from granflow.config import CUSTOM, ConfigError, config_to_toml, load_config
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios.registry import builtin_scenarios
 
-DEFAULT_SCENARIO = "plug-flow"  # the scenario `granflow run` runs without an argument
+DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without an argument
 RUNS_FOLDER = Path("runs")
 OK_STATUSES = ("completed", "stopped")
 

@@ -136,6 +136,7 @@ class Numerics(_Section):
     linearization: Literal["picard", "newton"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
     mesh_penalty: Positive
+    volume_correction: bool  # restore the initial area after each ALE move (column only)
 
     @property
     def tol_start(self) -> float:
@@ -228,6 +229,10 @@ def _problems(c: Config) -> Iterator[str]:
         if g.erodible_thickness >= g.height:
             yield (f"geometry.erodible_thickness = {g.erodible_thickness!r} must be less than "
                    f"geometry.height = {g.height!r}")
+        if c.numerics.mesh_velocity in ("fixed", "vertical"):
+            yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
+                   "geometry.kind = 'column' (its free surface must move); "
+                   "use 'elastic' (3.6) or 'lagrange' (3.7)")
         run = g.height / math.tan(math.radians(g.front_angle_deg))  # horizontal extent of front
         if g.shape == "trapezoid" and run >= g.width:
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "

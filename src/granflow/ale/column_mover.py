@@ -41,7 +41,7 @@ class ColumnMover(AleMover):
         super().prepare(dt)
         assert self.w_vertices is not None
         xy = self.mesh.ngmesh.Coordinates()
-        bed, wall = self.chain.vertices(BED), self.chain.vertices(WALL)
+        bed, wall = self._on_bed(), self._on_wall()
         candidates = np.setdiff1d(np.unique(self.chain.segments), np.union1d(bed, wall))
         times = landing_time(xy, self.w_vertices, candidates)
         t_min = float(times.min()) if times.size else np.inf
@@ -54,7 +54,7 @@ class ColumnMover(AleMover):
     def move(self, dt: float) -> None:
         super().move(dt)
         xy = self.mesh.ngmesh.Coordinates()
-        bed, wall = self.chain.vertices(BED), self.chain.vertices(WALL)
+        bed, wall = self._on_bed(), self._on_wall()
         xy[bed, 1] = 0.0
         xy[wall, 0] = 0.0
         for v in self.landed:          # a landing node lands exactly on the bed or the wall
@@ -63,9 +63,19 @@ class ColumnMover(AleMover):
             else:
                 xy[v, 0] = 0.0
         if self.conserve_volume:
-            movable = self.chain.free_vertices()
-            movable = np.setdiff1d(movable, self.landed)
+            pinned = np.union1d(np.union1d(bed, wall), self.landed)
+            movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             conserve_area(xy, self.chain.segments, movable, self.initial_area)
+
+    def _on_bed(self) -> np.ndarray:
+        """Vertices on bed segments, and landed surface vertices not yet on one (Z = 0)."""
+        xy = self.mesh.ngmesh.Coordinates()
+        landed = np.flatnonzero(xy[:, 1] <= 0.0)
+        return np.union1d(self.chain.vertices(BED), landed)
+
+    def _on_wall(self) -> np.ndarray:
+        xy = self.mesh.ngmesh.Coordinates()
+        return np.union1d(self.chain.vertices(WALL), np.flatnonzero(xy[:, 0] <= 0.0))
 
     def check(self) -> str | None:
         problem = super().check()

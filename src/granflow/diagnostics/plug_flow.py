@@ -7,6 +7,8 @@ import math
 import ngsolve as ngs
 import numpy as np
 
+from granflow.fem.sampling import point_values
+
 
 def reference_field(mesh: ngs.Mesh, z: np.ndarray, u: np.ndarray) -> ngs.CoefficientFunction:
     """(U_ref(Z), 0) as a coefficient function: the 1D profile extended in x (section 4)."""
@@ -30,6 +32,4 @@ def velocity_relative_error_l2(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction
 def vertical_profile(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, x: float,
                      z: np.ndarray) -> np.ndarray:
     """(len(z), 2) velocity samples along the vertical X = x."""
-    return np.array([velocity(mesh(x, float(zi))) for zi in z])
-
-
+    return point_values(mesh, velocity, x, z)[1]

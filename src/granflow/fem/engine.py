@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import os
-
 import ngsolve as ngs
 
 from granflow.physics.ops import Ops
 
 # Threads hurt on small 2D problems on these machines (DESIGN.md, measured facts).
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 ngs.SetNumThreads(1)
 
 NGSOLVE_OPS = Ops(sqrt=ngs.sqrt, positive_part=lambda a: ngs.IfPos(a, a, 0.0))

@@ -16,7 +16,7 @@ from granflow.diagnostics.interface import lower_envelope
 from granflow.diagnostics.state import flowing_cells
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
-from granflow.fem.sampling import triangles
+from granflow.fem.sampling import point_values, triangles
 from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, WALL, polygon_mesh
 from granflow.io.run_dir import RunDir
@@ -64,17 +64,22 @@ class ColumnCollapse:
         return lower_envelope(xy, triangles(self.mesh), self.flowing(), stations)
 
     def sections(self) -> list[tuple[float, np.ndarray, np.ndarray]]:
-        """(X, Z samples, velocity samples) on the verticals X_g - 10 cm, X_g, X_g + 10 cm."""
+        """(X, Z samples, velocity samples) on the verticals X_g - 10 cm, X_g, X_g + 10 cm.
+
+        Samples run from the bed to the highest crossing of the vertical with the surface;
+        points outside the mesh (under an overhang) are left out.
+        """
         surface = self.surface()
         out = []
         for dx in SECTION_OFFSETS:
             x = self.config.geometry.width + dx
-            if not surface[:, 0].min() <= x <= surface[:, 0].max():
+            top = _highest_crossing(surface, x)
+            if top is None:
                 continue
-            top = float(np.interp(x, surface[::-1, 0], surface[::-1, 1]))
             z = np.linspace(0.0, top, 41)[:-1] + 1e-9
-            u = np.array([self.solver.velocity(self.mesh(x, float(zi))) for zi in z])
-            out.append((x, z, u))
+            z, u = point_values(self.mesh, self.solver.velocity, x, z)
+            if len(z):
+                out.append((x, z, u))
         return out
 
     def write_profiles(self, run_dir: RunDir, t: float) -> None:
@@ -119,6 +124,16 @@ class ColumnCollapse:
         plot_collapse(run_dir, self.config, self.frames)
 
 
+def _highest_crossing(polyline: np.ndarray, x: float) -> float | None:
+    """Highest Z where the polyline crosses the vertical X = x."""
+    best = None
+    for (x0, z0), (x1, z1) in zip(polyline[:-1], polyline[1:], strict=True):
+        if min(x0, x1) <= x <= max(x0, x1) and x0 != x1:
+            z = z0 + (z1 - z0) * (x - x0) / (x1 - x0)
+            best = z if best is None else max(best, z)
+    return best
+
+
 def _areas(mesh: ngs.Mesh) -> np.ndarray:
     from granflow.geometry.mesh import signed_areas
 
@@ -147,7 +162,7 @@ def build_column(config: Config) -> ColumnCollapse:
         ElasticMeshVelocity)
     mover = ColumnMover(mesh, velocity_cls(mesh, solver.velocity, solver.mesh_velocity,
                                            num.mesh_penalty),
-                        conserve_volume=getattr(num, "volume_correction", True))
+                        conserve_volume=num.volume_correction)
     simulation = Simulation(solver=solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end, max_iterations=num.max_iterations,
                             mesh_motion=mover)

@@ -18,7 +18,7 @@ from granflow.io.run_dir import RunDir
 from granflow.physics import DruckerPrager
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.timestep import FixedStep, RampedStep
+from granflow.simulation.timestep import RampedStep, fixed_step
 
 
 def gravity_vector(gravity: float, slope_deg: float) -> tuple[float, float]:
@@ -87,11 +87,11 @@ class PlugFlow:
         plot_plug_profile(run_dir.path("plots/velocity_profile.png"), z, u[:, 0], ref, t)
 
 
-def step_policy(config: Config) -> FixedStep | RampedStep:
+def step_policy(config: Config) -> RampedStep:
     """The fixed step when ``time.dt`` is set, else the ramp of section 3.1."""
     tm, num = config.time, config.numerics
     if tm.dt is not None:
-        return FixedStep(t_end=tm.t_end, dt=tm.dt, tol=num.tol)
+        return fixed_step(tm.t_end, tm.dt, num.tol, list(tm.output_times))
     return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
                       tol=num.tol, tol_init=num.tol_init or num.tol, stops=list(tm.output_times))
 

@@ -14,7 +14,7 @@ from typing import Any, Protocol
 import ngsolve as ngs
 
 from granflow.config import Config
-from granflow.diagnostics.state import state_measures
+from granflow.diagnostics.state import FLOWING_SPEED, state_measures
 from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
@@ -61,10 +61,10 @@ def write_fields(series: VtkSeries, problem: Problem, t: float) -> None:
         point_data={
             "velocity": vertex_samples(mesh, solver.velocity),
             "pressure": vertex_samples(mesh, solver.pressure),
-            "strain_rate_norm": vertex_samples(mesh, solver.strain_rate_norm()),
-            "effective_viscosity": vertex_samples(mesh, solver.effective_viscosity()),
         },
-        cell_data={"flowing": (speed > 1e-3).astype(float), "speed": speed})
+        cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
+                   "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
+                   "effective_viscosity": cell_means(mesh, solver.effective_viscosity())[0]})
 
 
 def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> dict[str, Any]:

@@ -1,38 +1,17 @@
-"""Time-step policies: a fixed step, and the paper's ramp (section 3.1)."""
+"""Time-step policies: the paper's ramp (section 3.1) and a fixed step."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-
-@dataclass
-class FixedStep:
-    """Constant dt, adjusted to t_end / round(t_end / dt) so that t_end is hit exactly."""
-
-    t_end: float
-    dt: float
-    tol: float
-    n_steps: int = field(init=False)
-
-    def __post_init__(self) -> None:
-        self.n_steps = max(1, round(self.t_end / self.dt))
-        self.dt = self.t_end / self.n_steps
-
-    def propose(self, t: float) -> tuple[float, float]:
-        return min(self.dt, self.t_end - t), self.tol
-
-    def accepted(self, dt: float) -> None:
-        pass
-
-    def rejected(self, dt: float) -> None:
-        raise RuntimeError("a fixed time step cannot be reduced; use the ramp (time.dt unset)")
+RECOVERY_GROWTH = 2.0  # regrowth of dt after a rejected step, once the ramp is over
 
 
 @dataclass
 class RampedStep:
     """dt_{n+1} = growth * dt_n from dt_init up to dt_max; tol ramps likewise (3.1).
 
-    A rejected step halves dt (and restarts the growth from there). Steps are clipped so
+    A rejected step halves dt; after the ramp, dt then doubles back to dt_max. Steps are clipped so
     that ``stops`` (output times, t_end) are hit exactly.
     """
 
@@ -44,6 +23,7 @@ class RampedStep:
     tol_init: float
     stops: list[float] = field(default_factory=list)
     dt: float = field(init=False)
+    ramp_done: bool = field(init=False, default=False)
     current_tol: float = field(init=False)
 
     def __post_init__(self) -> None:
@@ -61,12 +41,26 @@ class RampedStep:
         return dt, self.current_tol
 
     def accepted(self, dt: float) -> None:
+        """Grow dt after a full step; a step shortened by a stop or a landing keeps dt."""
         if dt >= self.dt * (1 - 1e-12):
-            self.dt = min(self.dt * self.growth, self.dt_max)
-            self.current_tol = min(self.current_tol * self.growth, self.tol)
+            self.ramp_done = self.ramp_done or self.dt >= self.dt_max
+            factor = RECOVERY_GROWTH if self.ramp_done else self.growth
+            self.dt = min(self.dt * factor, self.dt_max)
+        self.current_tol = min(self.current_tol * self.growth, self.tol)
 
     def rejected(self, dt: float) -> None:
         self.dt = 0.5 * dt
         if self.dt < 1e-14:
             raise RuntimeError(f"time step fell below 1e-14 s (dt = {self.dt:.3g})")
 
+
+
+def fixed_step(t_end: float, dt: float, tol: float, stops: list[float] | None = None) -> RampedStep:
+    """A constant dt, adjusted to t_end / round(t_end / dt) so that t_end is hit exactly.
+
+    Steps still shorten to land on output times or to deposit a node, and halve on
+    rejection; they return to dt afterwards.
+    """
+    dt = t_end / max(1, round(t_end / dt))
+    return RampedStep(t_end=t_end, dt_init=dt, dt_max=dt, growth=1.0, tol=tol, tol_init=tol,
+                      stops=stops or [])
