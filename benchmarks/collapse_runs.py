@@ -1,0 +1,45 @@
+"""Benchmark: full collapse runs over a rigid bed at the paper's parameters (section 5).
+
+Run: python benchmarks/collapse_runs.py [--scenarios trapezoid-rigid rectangle-rigid]
+         [--set key=value ...] [--tag NAME] [--out benchmarks/results/collapse]
+Each run goes to OUT/TAG/SCENARIO (a normal run directory); OUT/TAG.json collects status,
+stop time, front stop time, runout, volume error, wall time, steps and linear solves.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from granflow.config import config_to_toml, load_config
+from granflow.io.run_dir import RunDir
+from granflow.simulation.runner import run_simulation
+
+KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
+        "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m",
+        "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs"]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--scenarios", nargs="+", default=["trapezoid-rigid", "rectangle-rigid"])
+    parser.add_argument("--set", dest="overrides", action="append", default=[])
+    parser.add_argument("--tag", default="paper")
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/collapse"))
+    args = parser.parse_args()
+    results = {}
+    for name in args.scenarios:
+        config = load_config(name, args.overrides)
+        run_dir = RunDir.create(args.out / args.tag / name)
+        run_dir.write_text("config.toml", config_to_toml(config))
+        summary = run_simulation(config, run_dir, progress=False)
+        results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": args.overrides}
+        print(name, json.dumps(results[name], indent=1))
+    path = args.out / f"{args.tag}.json"
+    path.write_text(json.dumps(results, indent=2))
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,52 @@
+"""Every built-in scenario smoke-runs through the CLI on a coarse mesh for a short time."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SHORT = {
+    "plug-flow": ["mesh.size=0.5", "time.dt=0.05", "time.t_end=0.1", "time.output_times=[0.1]",
+                  "numerics.eps=1e-2"],
+    "trapezoid-rigid": ["mesh.size=0.05", "time.dt=2e-3", "numerics.tol=1e-3",
+                        "time.t_end=0.04", "time.output_times=[0.02,0.04]"],
+    "rectangle-rigid": ["mesh.size=0.04", "time.t_end=2e-3", "time.dt_max=1e-3",
+                        "time.output_times=[2e-3]"],
+    "trapezoid-erodible": ["mesh.size=0.05", "time.dt=1e-3", "numerics.tol=1e-3",
+                           "time.t_end=0.005", "time.output_times=[]"],
+}
+
+
+def run_cli(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "granflow", *args], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.mark.parametrize("scenario", sorted(SHORT))
+def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: str) -> None:
+    overrides = [a for s in SHORT[scenario] for a in ("--set", s)]
+    out = tmp_path / "run"
+    proc = run_cli(tmp_path, "run", scenario, *overrides, "--out", str(out), "--quiet")
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "completed", summary["message"]
+    for key in ("t_final", "steps", "rejected_steps", "nonlinear_iterations", "linear_solves",
+                "wall_time_s", "stop_time_s", "runout_m", "volume_relative_error",
+                "n_triangles", "n_dofs"):
+        assert key in summary
+    assert (out / "config.toml").exists()
+    assert (out / "fields" / "fields.pvd").exists()
+    header = (out / "diagnostics.csv").read_text().splitlines()[0]
+    assert header == ("t,dt,iterations,front_x,wall_height,volume,kinetic_energy,max_speed,"
+                      "flowing_fraction")
+    if scenario == "plug-flow":
+        assert summary["velocity_relative_error_l2"] < 0.05
+        assert (out / "profiles" / "velocity_t0.100.csv").exists()
+    elif scenario == "trapezoid-rigid":
+        assert summary["volume_relative_error"] < 1e-10
+        for kind in ("free_surface", "velocity_sections", "interface"):
+            assert (out / "profiles" / f"{kind}_t0.040.csv").exists()
+        assert (out / "plots" / "free_surface.png").exists()
+        assert (out / "plots" / "speed.gif").exists()
