@@ -21,6 +21,20 @@ KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_it
         "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs"]
 
 
+def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path) -> dict:
+    """Run each scenario with ``overrides`` into OUT/TAG/SCENARIO; write OUT/TAG.json."""
+    results = {}
+    for name in scenarios:
+        config = load_config(name, overrides)
+        run_dir = RunDir.create(out / tag / name)
+        run_dir.write_text("config.toml", config_to_toml(config))
+        summary = run_simulation(config, run_dir, progress=False)
+        results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
+        print(tag, name, json.dumps(results[name], indent=1), flush=True)
+    (out / f"{tag}.json").write_text(json.dumps(results, indent=2))
+    return results
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--scenarios", nargs="+", default=["trapezoid-rigid", "rectangle-rigid"])
@@ -28,17 +42,7 @@ def main() -> None:
     parser.add_argument("--tag", default="paper")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/collapse"))
     args = parser.parse_args()
-    results = {}
-    for name in args.scenarios:
-        config = load_config(name, args.overrides)
-        run_dir = RunDir.create(args.out / args.tag / name)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        summary = run_simulation(config, run_dir, progress=False)
-        results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": args.overrides}
-        print(name, json.dumps(results[name], indent=1))
-    path = args.out / f"{args.tag}.json"
-    path.write_text(json.dumps(results, indent=2))
-    print(f"wrote {path}")
+    run_variant(args.tag, args.scenarios, args.overrides, args.out)
 
 
 if __name__ == "__main__":

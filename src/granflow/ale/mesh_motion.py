@@ -9,6 +9,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from granflow.fem.linalg import ReusableLU
 from granflow.geometry.mesh import BED, SURFACE, signed_areas
 
 
@@ -24,7 +25,27 @@ def move_mesh(mesh: ngs.Mesh, displacement: np.ndarray) -> None:
     coords += displacement
 
 
-class VerticalMeshVelocity:
+class _LinearMeshVelocity:
+    """A linear problem for w^n assembled on the current mesh, its LU pattern reused."""
+
+    def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, solution: ngs.GridFunction,
+                 freedofs: ngs.BitArray | None = None) -> None:
+        self._a, self._f, self._solution = a, f, solution
+        self._lu = ReusableLU(a, freedofs if freedofs is not None else a.space.FreeDofs())
+
+    def compute(self) -> ngs.GridFunction:
+        """Solve for w on the current mesh from the current velocity."""
+        self._a.Assemble()
+        self._f.Assemble()
+        self._lu.update()
+        self._lu.solve(self._f.vec, self._solution.vec)
+        return self._store()
+
+    def _store(self) -> ngs.GridFunction:
+        return self._solution
+
+
+class VerticalMeshVelocity(_LinearMeshVelocity):
     """w = (0, w) with w = 0 on the bed and w N_z = u.N on the surface (Table 2 set-up).
 
     The kinematic condition (2.12) is imposed with the boundary penalty of (3.6); the
@@ -39,52 +60,35 @@ class VerticalMeshVelocity:
         w, v = space.TnT()
         n = ngs.specialcf.normal(2)
         surface = ngs.ds(definedon=mesh.Boundaries(SURFACE))
-        self._a = ngs.BilinearForm(space)
-        self._a += ngs.grad(w) * ngs.grad(v) * ngs.dx
-        self._a += penalty * (w * n[1]) * (v * n[1]) * surface
-        self._f = ngs.LinearForm(space)
-        self._f += penalty * (velocity * n) * (v * n[1]) * surface
-        self._w = ngs.GridFunction(space)
+        a = ngs.BilinearForm(space)
+        a += ngs.grad(w) * ngs.grad(v) * ngs.dx
+        a += penalty * (w * n[1]) * (v * n[1]) * surface
+        f = ngs.LinearForm(space)
+        f += penalty * (velocity * n) * (v * n[1]) * surface
+        super().__init__(a, f, ngs.GridFunction(space))
         self._target = target
-        self._freedofs = space.FreeDofs()
 
-    def compute(self) -> ngs.GridFunction:
-        """Solve for w on the current mesh from the current velocity; store it in ``target``."""
-        self._a.Assemble()
-        self._f.Assemble()
-        self._w.vec.data = self._a.mat.Inverse(self._freedofs, inverse="umfpack") * self._f.vec
-        self._target.Set(ngs.CF((0.0, self._w)))
+    def _store(self) -> ngs.GridFunction:
+        self._target.Set(ngs.CF((0.0, self._solution)))
         return self._target
 
 
-class ElasticMeshVelocity:
+class ElasticMeshVelocity(_LinearMeshVelocity):
     """(3.6): int Dw:Dv + xi int_Gamma (w.N - u.N)(v.N) = 0 (boundary penalty)."""
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
                  target: ngs.GridFunction, penalty: float) -> None:
-        space = target.space
-        w, v = space.TnT()
+        w, v = target.space.TnT()
         n = ngs.specialcf.normal(2)
-        self._a = ngs.BilinearForm(space)
-        self._a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
-        self._a += penalty * (w * n) * (v * n) * ngs.ds
-        self._f = ngs.LinearForm(space)
-        self._f += penalty * (velocity * n) * (v * n) * ngs.ds
-        self._target = target
-        self._inverse = None
-
-    def compute(self) -> ngs.GridFunction:
-        self._a.Assemble()
-        self._f.Assemble()
-        if self._inverse is None:
-            self._inverse = self._a.mat.Inverse(inverse="umfpack")
-        else:
-            self._inverse.Update()
-        self._target.vec.data = self._inverse * self._f.vec
-        return self._target
+        a = ngs.BilinearForm(target.space)
+        a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
+        a += penalty * (w * n) * (v * n) * ngs.ds
+        f = ngs.LinearForm(target.space)
+        f += penalty * (velocity * n) * (v * n) * ngs.ds
+        super().__init__(a, f, target)
 
 
-class LagrangeMeshVelocity:
+class LagrangeMeshVelocity(_LinearMeshVelocity):
     """(3.7): the normal condition through a P2 multiplier, which lets surface nodes slide.
 
     int Dw:Dv + xi^-1 int p q + int_Gamma q (w - u).N + int_Gamma p (v.N) = 0.
@@ -95,24 +99,16 @@ class LagrangeMeshVelocity:
         space = target.space * ngs.H1(mesh, order=2)
         (w, p), (v, q) = space.TnT()
         n = ngs.specialcf.normal(2)
-        self._a = ngs.BilinearForm(space)
-        self._a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
-        self._a += (1.0 / penalty) * p * q * ngs.dx
-        self._a += (q * (w * n) + p * (v * n)) * ngs.ds
-        self._f = ngs.LinearForm(space)
-        self._f += q * (velocity * n) * ngs.ds
-        self._solution = ngs.GridFunction(space)
+        a = ngs.BilinearForm(space)
+        a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
+        a += (1.0 / penalty) * p * q * ngs.dx
+        a += (q * (w * n) + p * (v * n)) * ngs.ds
+        f = ngs.LinearForm(space)
+        f += q * (velocity * n) * ngs.ds
+        super().__init__(a, f, ngs.GridFunction(space))
         self._target = target
-        self._inverse = None
 
-    def compute(self) -> ngs.GridFunction:
-        self._a.Assemble()
-        self._f.Assemble()
-        if self._inverse is None:
-            self._inverse = self._a.mat.Inverse(inverse="umfpack")
-        else:
-            self._inverse.Update()
-        self._solution.vec.data = self._inverse * self._f.vec
+    def _store(self) -> ngs.GridFunction:
         self._target.vec.data = self._solution.components[0].vec
         return self._target
 

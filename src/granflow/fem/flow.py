@@ -6,6 +6,7 @@ from collections.abc import Sequence
 
 import ngsolve as ngs
 
+from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.forms import FrictionWall, build_momentum_forms, frobenius, strain_rate
 from granflow.fem.nonlinear import IterationReport, PicardIteration
 from granflow.fem.spaces import taylor_hood, vector_p2
@@ -80,7 +81,5 @@ class FlowSolver:
         return frobenius(strain_rate(self.velocity))
 
     def effective_viscosity(self) -> ngs.CoefficientFunction:
-        from granflow.fem.engine import NGSOLVE_OPS
-
         return self.rheology.effective_viscosity(self.strain_rate_norm(), self.pressure,
                                                  NGSOLVE_OPS)

@@ -16,9 +16,9 @@ from granflow.diagnostics.interface import lower_envelope
 from granflow.diagnostics.state import flowing_cells
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
-from granflow.fem.sampling import point_values, triangles
+from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
-from granflow.geometry.mesh import BED, WALL, polygon_mesh
+from granflow.geometry.mesh import BED, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
 from granflow.physics import CoulombFriction, DruckerPrager
 from granflow.scenarios.plug_flow import gravity_vector, step_policy
@@ -96,8 +96,6 @@ class ColumnCollapse:
 
     def snapshot(self, sim: Simulation) -> None:
         """A frame of the animation: mesh, cell speeds and the interface."""
-        from granflow.fem.sampling import cell_means
-
         speed, _ = cell_means(self.mesh, ngs.Norm(self.solver.velocity))
         xy = self.mesh.ngmesh.Coordinates().copy()
         stations = np.linspace(0.0, xy[:, 0].max(), 120)
@@ -115,7 +113,7 @@ class ColumnCollapse:
             "initial_area_m2": self.mover.initial_area,
             "deposited_segments": self.mover.relabelled_segments,
             "dt_limited_steps": self.mover.limited_steps,
-            "min_triangle_area_m2": float(np.min(_areas(self.mesh))),
+            "min_triangle_area_m2": float(np.min(signed_areas(self.mesh))),
         }
 
     def plot(self, run_dir: RunDir) -> None:
@@ -132,12 +130,6 @@ def _highest_crossing(polyline: np.ndarray, x: float) -> float | None:
             z = z0 + (z1 - z0) * (x - x0) / (x1 - x0)
             best = z if best is None else max(best, z)
     return best
-
-
-def _areas(mesh: ngs.Mesh) -> np.ndarray:
-    from granflow.geometry.mesh import signed_areas
-
-    return signed_areas(mesh)
 
 
 def build_column(config: Config) -> ColumnCollapse:

@@ -63,6 +63,7 @@ class Simulation:
     t: float = 0.0
     step: int = 0
     dt: float = 0.0
+    attempted_dt: float = 0.0
     last_report: IterationReport | None = None
     rejected_steps: int = 0
     nonlinear_iterations: int = 0
@@ -70,9 +71,12 @@ class Simulation:
     _rejections_in_row: int = field(default=0, repr=False)
 
     def _attempt(self, dt: float, tol: float) -> tuple[IterationReport | None, str | None]:
+        """One try at a step of size dt (shortened by the mesh motion if it must)."""
         motion = self.mesh_motion
         if motion is not None:
             dt = motion.prepare(dt)
+        self.attempted_dt = dt
+        if motion is not None:
             motion.move(dt)
             problem = motion.check()
             if problem is not None:
@@ -93,6 +97,7 @@ class Simulation:
         status, message = "completed", f"reached t_end = {self.t_end:g} s"
         while self.t < self.t_end - 1e-12 * max(1.0, self.t_end):
             dt, tol = self.steps_policy.propose(self.t)
+            self.attempted_dt = dt
             try:
                 report, problem = self._attempt(dt, tol)
             except Exception as exc:  # a solver failure is a result, not a crash
@@ -103,7 +108,7 @@ class Simulation:
                 try:
                     if self._rejections_in_row > self.max_consecutive_rejections:
                         raise RuntimeError("too many consecutive rejected steps")
-                    self.steps_policy.rejected(self.dt or dt)
+                    self.steps_policy.rejected(self.attempted_dt)
                     continue
                 except RuntimeError as exc:
                     status = "failed"
