@@ -257,7 +257,13 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
     name, layers = _read_source(source)
     for layer in layers:
         _merge(data, layer)
+    explicit = "output_times" in layers[-1].get("time", {}) if len(layers) > 1 else False
     _apply(data, overrides)
+    explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
+                               for o in overrides)
+    if not explicit:  # inherited output times after a shortened t_end are dropped
+        t_end = data["time"]["t_end"]
+        data["time"]["output_times"] = [x for x in data["time"]["output_times"] if x <= t_end]
     data["scenario"] = name
     return _validate(data)
 

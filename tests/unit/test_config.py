@@ -144,6 +144,11 @@ def test_apply_overrides_revalidates() -> None:
         apply_overrides(config, ["time.output_times=[0.5]"])
 
 
+def test_inherited_output_times_follow_a_shorter_t_end() -> None:
+    config = load_config("trapezoid-rigid", ["time.t_end=0.4"])
+    assert config.time.output_times == [0.18, 0.3]
+
+
 def test_config_is_frozen() -> None:
     config = load_config("plug-flow")
     with pytest.raises(pydantic.ValidationError):

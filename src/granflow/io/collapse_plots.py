@@ -43,7 +43,7 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
     for t, prof in _profiles(run_dir, "free_surface", times):
         ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
     ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect="equal")
-    ax.legend(fontsize=7)
+    _legend(ax)
     save_figure(fig, run_dir.path("plots/free_surface.png"))
 
     fig, ax = plt.subplots(figsize=(8, 3))
@@ -54,7 +54,7 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
             ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
     ax.set(xlabel="X (m)", ylabel="Z (m)", aspect="equal",
            title="Static/flowing interface (|u| > 1 mm/s), dotted: free surface")
-    ax.legend(fontsize=7)
+    _legend(ax)
     save_figure(fig, run_dir.path("plots/interface.png"))
 
     sections = _profiles(run_dir, "velocity_sections", times)
@@ -74,7 +74,7 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
             axes[1][j].set_xlabel("U_Z (m/s)")
         axes[0][0].set_ylabel("Z (m)")
         axes[1][0].set_ylabel("Z (m)")
-        axes[0][0].legend(fontsize=7)
+        _legend(axes[0][0])
         save_figure(fig, run_dir.path("plots/velocity_sections.png"))
 
     diag = _read(run_dir.path("diagnostics.csv"))
@@ -88,6 +88,11 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
 
     if frames:
         _animate(run_dir.path("plots/speed.gif"), frames, width, height)
+
+
+def _legend(ax: plt.Axes) -> None:
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
 
 
 def _animate(path: Path, frames: list[dict[str, Any]], width: float, height: float) -> None:

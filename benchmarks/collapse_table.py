@@ -1,0 +1,83 @@
+"""Tabulate the finished collapse benchmarks and draw the (3.6)/(3.7) comparison.
+
+Run: python benchmarks/collapse_table.py   (after collapse_runs.py / collapse_study.py)
+Prints a markdown table of every OUT/*.json and writes OUT/table.md, OUT/comparison.json
+and OUT/mesh_velocity_comparison.png (free surfaces of (3.6) and (3.7) at the output times).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+OUT = Path("benchmarks/results/collapse")
+COLUMNS = ["status", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m",
+           "volume_relative_error", "n_triangles", "steps", "linear_solves", "wall_time_s"]
+
+
+def surface(run: Path, t: float) -> np.ndarray | None:
+    path = run / "profiles" / f"free_surface_t{t:.3f}.csv"
+    if not path.exists():
+        return None
+    with open(path) as fh:
+        return np.array([[float(r["x"]), float(r["z"])] for r in csv.DictReader(fh)])
+
+
+def edge_spread(xz: np.ndarray) -> float:
+    """Longest over shortest surface edge: how evenly the surface nodes are spread."""
+    lengths = np.linalg.norm(np.diff(xz, axis=0), axis=1)
+    return float(lengths.max() / lengths.min())
+
+
+def main() -> None:
+    rows = []
+    for path in sorted(OUT.glob("*.json")):
+        if path.name == "comparison.json":
+            continue
+        tag = path.stem
+        for scenario, r in json.loads(path.read_text()).items():
+            final = surface(OUT / tag / scenario, r["t_final"] or 0.0)
+            spread = edge_spread(final) if final is not None else float("nan")
+            rows.append({"variant": tag, "scenario": scenario,
+                         **{c: r.get(c) for c in COLUMNS}, "surface_edge_spread": spread})
+    head = ["variant", "scenario", *COLUMNS, "surface_edge_spread"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        lines.append("| " + " | ".join(
+            f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in head) + " |")
+    table = "\n".join(lines)
+    print(table)
+    (OUT / "table.md").write_text(table + "\n")
+    (OUT / "comparison.json").write_text(json.dumps(rows, indent=2))
+    pairs = [("s52-elastic", "s52-lagrange", "default mesh"),
+             ("s52-elastic-fine", "s52-lagrange-fine", "half mesh size")]
+    shapes = {"trapezoid-rigid": [0.18, 0.3, 0.48, 0.66, 0.78, 1.02],
+              "rectangle-rigid": [0.18, 0.3, 0.42, 0.5, 0.78, 1.06]}
+    fig, axes = plt.subplots(len(shapes), len(pairs), figsize=(12, 6), squeeze=False)
+    for i, (shape, times) in enumerate(shapes.items()):
+        for j, (elastic, lagrange, label) in enumerate(pairs):
+            ax = axes[i][j]
+            for k, t in enumerate(times):
+                for tag, style in ((elastic, "-"), (lagrange, "--")):
+                    run = OUT / tag / shape
+                    if not run.exists():
+                        run = OUT / f"{tag}-{shape}" / shape
+                    xz = surface(run, t)
+                    if xz is not None:
+                        ax.plot(xz[:, 0], xz[:, 1], style, color=f"C{k}", lw=1,
+                                label=f"{t:.2f} s" if style == "-" else None)
+            ax.set(title=f"{shape}, {label}: (3.6) solid, (3.7) dashed", aspect="equal",
+                   xlabel="X (m)", ylabel="Z (m)")
+    axes[0][0].legend(fontsize=7)
+    fig.savefig(OUT / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
+
+
+if __name__ == "__main__":
+    main()
