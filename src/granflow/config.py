@@ -125,6 +125,7 @@ class Initial(_Section):
 class Mesh(_Section):
     size: Positive  # target edge length (m)
     cells_x: Annotated[int, Field(ge=2)] | None  # periodic layer; None = round(length / size)
+    remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: remesh below it; 0 = never
 
 
 class Numerics(_Section):
@@ -136,6 +137,7 @@ class Numerics(_Section):
     linearization: Literal["picard", "newton"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
     mesh_penalty: Positive
+    velocity_floor: Annotated[float, Field(ge=0)]  # m/s, floor of ||u|| in the (3.2) criterion
     volume_correction: bool  # restore the initial area after each ALE move (column only)
 
     @property

@@ -17,8 +17,8 @@ from granflow.ale.free_surface import (
     polygon_area,
     segments_intersect,
 )
-from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver
-from granflow.geometry.mesh import BED, WALL
+from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, vertex_values
+from granflow.geometry.mesh import BED, SURFACE, WALL
 
 LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
 
@@ -27,8 +27,9 @@ class ColumnMover(AleMover):
     """AleMover with the deposition procedure and an optional area-conserving correction."""
 
     def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
-                 conserve_volume: bool = True) -> None:
+                 material_velocity: ngs.GridFunction, conserve_volume: bool = True) -> None:
         super().__init__(mesh, velocity_solver)
+        self.material_velocity = material_velocity
         self.chain = BoundaryChain(mesh)
         self.conserve_volume = conserve_volume
         self.initial_area = polygon_area(mesh.ngmesh.Coordinates(), self.chain.segments)
@@ -36,9 +37,18 @@ class ColumnMover(AleMover):
         self.relabelled_segments = 0
         self.limited_steps = 0
 
+    def inherit(self, other: ColumnMover) -> None:
+        """Carry the reference area and the counters over a remesh."""
+        self.initial_area = other.initial_area
+        self.relabelled_segments = other.relabelled_segments
+        self.limited_steps = other.limited_steps
+        self.velocity_solves = other.velocity_solves
+
     def prepare(self, dt: float) -> float:
         """Compute w^n once and shorten dt so that no boundary node crosses bed or wall."""
-        super().prepare(dt)
+        if self.w_vertices is None:
+            super().prepare(dt)
+            self._pin_contact_points()
         assert self.w_vertices is not None
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
@@ -50,6 +60,18 @@ class ColumnMover(AleMover):
             self.limited_steps += 1
         self.landed = candidates[times <= dt * (1 + LANDING_TOLERANCE)]
         return dt
+
+    def _pin_contact_points(self) -> None:
+        """Where the surface meets the bed or the wall, w = u (pure Lagrangian, section 3.2).
+
+        (3.6) gives this at every normal discontinuity; at a thin front the bed and surface
+        normals are almost opposite and the penalty leaves w_x nearly free, so the contact
+        point would drift along the bed while the material there is at rest.
+        """
+        assert self.w_vertices is not None
+        surface = self.chain.vertices(SURFACE)
+        corners = np.intersect1d(surface, np.union1d(self._on_bed(), self._on_wall()))
+        self.w_vertices[corners] = vertex_values(self.material_velocity)[corners]
 
     def move(self, dt: float) -> None:
         super().move(dt)

@@ -124,10 +124,12 @@ class AleMover:
         self.velocity_solver = velocity_solver
         self.w_vertices: np.ndarray | None = None
         self._saved: np.ndarray | None = None
+        self.velocity_solves = 0
 
     def prepare(self, dt: float) -> float:
         if self.w_vertices is None:
             self.w_vertices = vertex_values(self.velocity_solver.compute())
+            self.velocity_solves += 1
         return dt
 
     def move(self, dt: float) -> None:

@@ -25,14 +25,13 @@ def stop_time(t: np.ndarray, flowing_fraction: np.ndarray) -> float | None:
     return float(t[after[0]]) if after.size else None
 
 
-def front_stop_time(t: np.ndarray, front_x: np.ndarray, tol: float = 1e-4) -> float | None:
-    """First time after which the front advances by less than ``tol`` metres."""
-    if len(t) == 0:
+def front_stop_time(t: np.ndarray, front_speed: np.ndarray,
+                    threshold: float = 1e-3) -> float | None:
+    """First time after which the material at the front stays slower than ``threshold``.
+
+    None if the front never moved faster, or still does at the end.
+    """
+    fast = np.flatnonzero(np.asarray(front_speed) > threshold)
+    if fast.size == 0 or fast[-1] == len(t) - 1:
         return None
-    ahead = np.maximum.accumulate(front_x[::-1])[::-1]   # max of the future, inclusive
-    still = np.flatnonzero(ahead - front_x < tol)
-    moved = np.flatnonzero(front_x - front_x[0] > tol)
-    if moved.size == 0:
-        return None
-    still = still[still >= moved[0]]
-    return float(t[still[0]]) if still.size and still[0] < len(t) - 1 else None
+    return float(t[fast[-1] + 1])

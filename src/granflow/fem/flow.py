@@ -46,10 +46,6 @@ class FlowSolver:
     def pressure(self) -> ngs.CoefficientFunction:
         return self.previous.components[1]
 
-    @property
-    def linear_solves(self) -> int:
-        return self.picard.linear_solves
-
     def set_state(self, velocity: ngs.CoefficientFunction,
                   pressure: ngs.CoefficientFunction) -> None:
         """Initial condition; the pressure is also the first iterate of the first step."""
@@ -57,11 +53,12 @@ class FlowSolver:
         self.previous.components[1].Set(pressure)
         self.solution.vec.data = self.previous.vec
 
-    def solve_step(self, dt: float, tol: float, max_iterations: int) -> IterationReport:
+    def solve_step(self, dt: float, tol: float, max_iterations: int,
+                   velocity_floor: float = 0.0) -> IterationReport:
         """(u^{n+1}, p^{n+1}) on the already-moved mesh, starting from (u^n, p^n)."""
         self.dt.Set(dt)
         self.solution.vec.data = self.previous.vec
-        return self.picard.solve(tol, max_iterations)
+        return self.picard.solve(tol, max_iterations, velocity_floor)
 
     def accept(self) -> None:
         self.previous.vec.data = self.solution.vec

@@ -38,7 +38,6 @@ class PicardIteration:
         self._new = iterate.vec.CreateVector()
         self._diff = iterate.vec.CreateVector()
         self._work = iterate.vec.CreateVector()
-        self.linear_solves = 0
 
     def reset_factorisation(self) -> None:
         """Forget the symbolic LU (the sparsity pattern changed)."""
@@ -48,18 +47,24 @@ class PicardIteration:
         self._work.data = self._mass.mat * vec
         return math.sqrt(max(ngs.InnerProduct(vec, self._work), 0.0))
 
-    def solve(self, tol: float, max_iterations: int) -> IterationReport:
-        """Run the iteration from the current ``iterate``; the mesh must already be moved."""
+    def solve(self, tol: float, max_iterations: int,
+              velocity_floor: float = 0.0) -> IterationReport:
+        """Run the iteration from the current ``iterate``; the mesh must already be moved.
+
+        The change is measured relative to max(||u^k||, velocity_floor |Omega|^1/2): with a
+        zero floor this is the paper's criterion; a floor (m/s) stops the iteration from
+        chasing relative changes of a mass that is at rest, where ||u^k|| -> 0.
+        """
         self.f.Assemble()
         self._mass.Assemble()
+        floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), self.iterate.space.mesh))
         change = math.inf
         for k in range(1, max_iterations + 1):
             self.a.Assemble()
             self._lu.update()
             self._lu.solve(self.f.vec, self._new)
-            self.linear_solves += 1
             self._diff.data = self._new - self.iterate.vec
-            norm_old = self._l2(self.iterate.vec)
+            norm_old = max(self._l2(self.iterate.vec), floor)
             norm_diff = self._l2(self._diff)
             self.iterate.vec.data = self._new
             if not math.isfinite(norm_diff):

@@ -10,6 +10,7 @@ import numpy as np
 
 from granflow.ale.column_mover import ColumnMover
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
+from granflow.ale.remesh import remesh, shape_quality
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
 from granflow.diagnostics.interface import lower_envelope
@@ -38,14 +39,43 @@ class ColumnCollapse:
     mover: ColumnMover
     simulation: Simulation
     history: dict[str, list[float]] = field(
-        default_factory=lambda: {"t": [], "front_x": [], "flowing_fraction": [],
+        default_factory=lambda: {"t": [], "front_x": [], "front_speed": [],
+                                 "flowing_fraction": [],
                                  "kinetic_energy": [], "wall_height": []})
     frames: list[dict[str, Any]] = field(default_factory=list)
+    remeshes: int = 0
+    fresh_quality: float = 1.0
+
+    # --- remeshing (the loop calls these; they replace mesh, solver and mover) ----------
+    def needs_remesh(self) -> bool:
+        """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
+        this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
+        floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
+        return float(shape_quality(self.mesh).min()) < floor
+
+    def remesh(self) -> None:
+        """New mesh of the same boundary; u^n and p^n interpolated onto it."""
+        old_solver, old_mover = self.solver, self.mover
+        self.mesh.ngmesh.Update()  # point search on the moved mesh, for the interpolation
+        mesh = remesh(self.mesh, self.config.mesh.size)
+        solver, mover = _flow_and_motion(self.config, mesh)
+        solver.previous.components[0].Set(old_solver.previous.components[0])
+        solver.previous.components[1].Set(old_solver.previous.components[1])
+        solver.solution.vec.data = solver.previous.vec
+        mover.inherit(old_mover)
+        self.mesh, self.solver, self.mover = mesh, solver, mover
+        self.simulation.replace(solver, mover)
+        self.remeshes += 1
+        self.fresh_quality = float(shape_quality(mesh).min())
 
     # --- observers' side ---------------------------------------------------------------
     def shape_measures(self) -> dict[str, float]:
         xy = self.mesh.ngmesh.Coordinates()
-        return {"front_x": front_diag.front_position(xy),
+        tri = triangles(self.mesh)
+        at_front = np.any(tri == int(np.argmax(xy[:, 0])), axis=1)
+        cell_speed, _ = cell_means(self.mesh, ngs.Norm(self.solver.velocity))
+        speed = float(cell_speed[at_front].max())      # cells touching the front vertex
+        return {"front_x": front_diag.front_position(xy), "front_speed": speed,
                 "wall_height": front_diag.wall_height(xy)}
 
     def record(self, row: dict[str, float]) -> None:
@@ -107,13 +137,16 @@ class ColumnCollapse:
         xy = self.mesh.ngmesh.Coordinates()
         return {
             "runout_m": front_diag.front_position(xy),
-            "stop_time_s": front_diag.stop_time(h["t"], h["flowing_fraction"]),
-            "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_x"]),
+            "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"])),
+            "runout_at_stop_m": float(np.interp(stop, h["t"], h["front_x"])) if stop else None,
+            "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),
             "wall_height_m": front_diag.wall_height(xy),
             "initial_area_m2": self.mover.initial_area,
             "deposited_segments": self.mover.relabelled_segments,
             "dt_limited_steps": self.mover.limited_steps,
             "min_triangle_area_m2": float(np.min(signed_areas(self.mesh))),
+            "min_triangle_quality": float(np.min(shape_quality(self.mesh))),
+            "remeshes": self.remeshes,
         }
 
     def plot(self, run_dir: RunDir) -> None:
@@ -134,29 +167,42 @@ def _highest_crossing(polyline: np.ndarray, x: float) -> float | None:
 
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
-    geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
+    geo, mat = config.geometry, config.material
     polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
                      geo.erodible_thickness, geo.bed_length)
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size)
-    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                             eps=num.eps)
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction)),
-             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
+    solver, mover = _flow_and_motion(config, mesh)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
-                        walls=walls, penalty=bnd.penalty)
     xy = mesh.ngmesh.Coordinates()
     heights = np.array([polygon.surface_height(x) for x in xy[:, 0]])
     pressure = ngs.GridFunction(ngs.H1(mesh, order=1))
     pressure.vec.FV().NumPy()[:] = -mat.density * force[1] * np.maximum(heights - xy[:, 1], 0)
     solver.set_state(ngs.CF((0.0, 0.0)), pressure)                  # at rest, hydrostatic
+    simulation = Simulation(solver=solver, steps_policy=step_policy(config),
+                            t_end=config.time.t_end,
+                            max_iterations=config.numerics.max_iterations, mesh_motion=mover,
+                            velocity_floor=config.numerics.velocity_floor)
+    problem = ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
+                             mover=mover, simulation=simulation)
+    if config.mesh.remesh_quality > 0:
+        simulation.remesher = problem
+    return problem
+
+
+def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, ColumnMover]:
+    """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``."""
+    geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
+    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                             eps=num.eps)
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction)),
+             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
+    solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
+                        body_force=gravity_vector(mat.gravity, geo.slope_deg),
+                        walls=walls, penalty=bnd.penalty)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     mover = ColumnMover(mesh, velocity_cls(mesh, solver.velocity, solver.mesh_velocity,
                                            num.mesh_penalty),
+                        material_velocity=solver.velocity,
                         conserve_volume=num.volume_correction)
-    simulation = Simulation(solver=solver, steps_policy=step_policy(config),
-                            t_end=config.time.t_end, max_iterations=num.max_iterations,
-                            mesh_motion=mover)
-    return ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
-                          mover=mover, simulation=simulation)
+    return solver, mover

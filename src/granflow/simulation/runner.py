@@ -70,8 +70,9 @@ def write_fields(series: VtkSeries, problem: Problem, t: float) -> None:
 def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> dict[str, Any]:
     """Run ``config`` into ``run_dir``; return the summary (also written as summary.json)."""
     problem = build_problem(config)
-    sim, solver = problem.simulation, problem.solver
-    volume0 = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
+    sim = problem.simulation
+    volume0 = state_measures(problem.mesh, problem.solver.velocity,
+                             problem.solver.density)["volume"]
     log = run_dir.csv_log("diagnostics.csv", DIAGNOSTIC_COLUMNS)
     series = VtkSeries(run_dir.path("fields"))
     bar = ProgressBar(config.time.t_end, enabled=progress)
@@ -79,7 +80,7 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
     def record(s: Simulation) -> None:
         row = {"t": s.t, "dt": s.dt, "iterations": s.last_report.iterations}
         row |= problem.shape_measures()
-        row |= state_measures(problem.mesh, solver.velocity, solver.density)
+        row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density)
         log.write([row.get(c, math.nan) for c in DIAGNOSTIC_COLUMNS])
         problem.record(row)
 
@@ -99,12 +100,13 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
     except Exception as exc:  # keep what was written; report instead of crashing
         result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
                            f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
-                           sim.nonlinear_iterations, solver.linear_solves,
+                           sim.nonlinear_iterations, sim.linear_solves,
                            sim.unconverged_steps, math.nan)
         run_dir.write_text("traceback.txt", traceback.format_exc())
     finally:
         bar.close()
         log.close()
+    solver = problem.solver
     volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
     summary: dict[str, Any] = {
         "scenario": config.scenario,

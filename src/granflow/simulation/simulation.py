@@ -31,6 +31,13 @@ class MeshMotion(Protocol):
     def after_accept(self) -> None: ...
 
 
+class Remesher(Protocol):
+    """Replaces the mesh (and with it solver and mesh motion) when it has degraded."""
+
+    def needs_remesh(self) -> bool: ...
+    def remesh(self) -> None: ...
+
+
 Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
 
@@ -59,6 +66,8 @@ class Simulation:
     mesh_motion: MeshMotion | None = None
     observers: Sequence[Observer] = ()
     stop_criteria: Sequence[StopCriterion] = ()
+    remesher: Remesher | None = None
+    velocity_floor: float = 0.0
     max_consecutive_rejections: int = 12
     t: float = 0.0
     step: int = 0
@@ -68,7 +77,18 @@ class Simulation:
     rejected_steps: int = 0
     nonlinear_iterations: int = 0
     unconverged_steps: int = 0
+    momentum_solves: int = 0
+    remeshed_this_step: bool = False
     _rejections_in_row: int = field(default=0, repr=False)
+
+    def replace(self, solver: FlowSolver, mesh_motion: MeshMotion) -> None:
+        """Continue on a new mesh (after a remesh): same time, counters and policy."""
+        self.solver, self.mesh_motion = solver, mesh_motion
+
+    @property
+    def linear_solves(self) -> int:
+        """Momentum solves (one per fixed-point iteration) plus mesh-velocity solves."""
+        return self.momentum_solves + getattr(self.mesh_motion, "velocity_solves", 0)
 
     def _attempt(self, dt: float, tol: float) -> tuple[IterationReport | None, str | None]:
         """One try at a step of size dt (shortened by the mesh motion if it must)."""
@@ -83,8 +103,9 @@ class Simulation:
                 motion.undo()
                 return None, problem
         self.dt = dt
-        report = self.solver.solve_step(dt, tol, self.max_iterations)
+        report = self.solver.solve_step(dt, tol, self.max_iterations, self.velocity_floor)
         self.nonlinear_iterations += report.iterations
+        self.momentum_solves += report.iterations
         if not report.finite:
             if motion is not None:
                 motion.undo()
@@ -105,6 +126,11 @@ class Simulation:
             if problem is not None:
                 self.rejected_steps += 1
                 self._rejections_in_row += 1
+                if (self.remesher is not None and not self.remeshed_this_step
+                        and "inverted" in problem):
+                    self.remesher.remesh()      # a tangling move: new mesh, same dt
+                    self.remeshed_this_step = True
+                    continue
                 try:
                     if self._rejections_in_row > self.max_consecutive_rejections:
                         raise RuntimeError("too many consecutive rejected steps")
@@ -118,6 +144,7 @@ class Simulation:
                     break
             assert report is not None
             self._rejections_in_row = 0
+            self.remeshed_this_step = False
             if not report.converged:
                 self.unconverged_steps += 1
             self.solver.accept()
@@ -127,6 +154,8 @@ class Simulation:
             self.t += self.dt
             self.step += 1
             self.last_report = report
+            if self.remesher is not None and self.remesher.needs_remesh():
+                self.remesher.remesh()
             for observer in self.observers:
                 observer(self)
             reason = next((r for c in self.stop_criteria if (r := c(self)) is not None), None)
@@ -137,6 +166,6 @@ class Simulation:
             status=status, message=message, t_final=self.t, steps=self.step,
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
-            linear_solves=self.solver.linear_solves, unconverged_steps=self.unconverged_steps,
+            linear_solves=self.linear_solves, unconverged_steps=self.unconverged_steps,
             wall_time_s=time.perf_counter() - start)
 
