@@ -13,7 +13,9 @@ import numpy as np
 
 from granflow.ale.free_surface import BoundaryChain
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, WALL, polygon_mesh
+from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
+
+STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 
 
 def shape_quality(mesh: ngs.Mesh) -> np.ndarray:
@@ -48,13 +50,27 @@ def remesh(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
-    which Netgen splits at ``size``); free-surface vertices are all kept, so the domain
-    and its area do not change.
+    which Netgen splits at ``size``), and so are free-surface vertices where the surface
+    turns by less than ``STRAIGHT_DEG``: three such vertices would otherwise make a flat
+    triangle with two boundary edges, which inverts as the surface straightens. The area
+    this removes (a sliver) is restored by the area correction of the next move.
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
-    keep = [i for i in range(len(loop))
-            if not (labels[i - 1] == labels[i] and labels[i] in (BED, WALL))]
+    pts = xy[loop]
+    before, after = pts - np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0) - pts
+    turn = np.degrees(np.abs(np.arctan2(
+        before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0],
+        np.sum(before * after, axis=1))))
+    keep, dropped_previous = [], False
+    for i in range(len(loop)):
+        straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL)
+        flat = labels[i - 1] == labels[i] == SURFACE and turn[i] < STRAIGHT_DEG
+        if straight_run or (flat and not dropped_previous):  # never two surface nodes in a row
+            dropped_previous = flat
+            continue
+        dropped_previous = False
+        keep.append(i)
     points = [tuple(xy[loop[i]]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
     return polygon_mesh(points, edge_labels, size)

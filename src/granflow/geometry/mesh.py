@@ -59,6 +59,7 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     segments = seg["nodes"][:, :2].astype(np.int64) - 1
     seg_labels = [ngmesh.GetBCName(int(i) - 1) for i in seg["index"]]
     tri = flip_corner_triangles(xy, tri)
+    xy, tri, segments, seg_labels = collapse_flat_corners(xy, tri, segments, seg_labels)
     return build_mesh(xy, tri, segments, seg_labels)
 
 
@@ -96,6 +97,52 @@ def flip_corner_triangles(xy: np.ndarray, tri: np.ndarray, max_passes: int = 5) 
         for t in corner:
             _flip_interior_edge(xy, tri, t)
     return tri
+
+
+def collapse_flat_corners(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
+                          labels: Sequence[str], min_quality: float = 0.05
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """Remove flat triangles with two boundary edges of one label that no flip could fix.
+
+    Their middle vertex lies (almost) on the chord of its neighbours, so the convex flip is
+    impossible; dropping that vertex and the sliver replaces two boundary edges by the
+    chord (the area change is a sliver's; the column's area correction restores it).
+    """
+    labels = list(labels)
+    for _ in range(10):
+        counts = boundary_edge_counts(tri)
+        p = xy[tri]
+        e = np.roll(p, -1, axis=1) - p
+        area = 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
+        quality = 4.0 * np.sqrt(3.0) * area / np.sum(e**2, axis=(1, 2))
+        bad = [t for t in np.flatnonzero((counts >= 2) & (quality < min_quality))]
+        done = False
+        for t in bad:
+            for m in tri[t]:
+                ends = [k for k in range(len(segments)) if m in segments[k]]
+                if len(ends) != 2 or labels[ends[0]] != labels[ends[1]]:
+                    continue
+                k_in = ends[0] if segments[ends[0]][1] == m else ends[1]
+                k_out = ends[1] if k_in == ends[0] else ends[0]
+                a, b = segments[k_in][0], segments[k_out][1]
+                if set(tri[t]) != {a, m, b}:
+                    continue
+                segments = segments.copy()
+                segments[k_in] = [a, b]
+                keep_seg = np.arange(len(segments)) != k_out
+                segments = segments[keep_seg]
+                labels = [lab for k, lab in enumerate(labels) if keep_seg[k]]
+                tri = np.delete(tri, t, axis=0)
+                xy = np.delete(xy, m, axis=0)
+                tri = tri - (tri > m)
+                segments = segments - (segments > m)
+                done = True
+                break
+            if done:
+                break
+        if not done:
+            break
+    return xy, tri, segments, labels
 
 
 def _flip_interior_edge(xy: np.ndarray, tri: np.ndarray, t: int) -> None:
