@@ -125,7 +125,7 @@ class Initial(_Section):
 class Mesh(_Section):
     size: Positive  # target edge length (m)
     cells_x: Annotated[int, Field(ge=2)] | None  # periodic layer; None = round(length / size)
-    remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: remesh below it; 0 = never
+    remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
 
 
 class Numerics(_Section):

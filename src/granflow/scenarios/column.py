@@ -51,7 +51,7 @@ class ColumnCollapse:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
         this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
-        return float(shape_quality(self.mesh).min()) < floor
+        return floor > 0 and float(shape_quality(self.mesh).min()) < floor
 
     def remesh(self) -> None:
         """New mesh of the same boundary; u^n and p^n interpolated onto it."""
@@ -184,8 +184,7 @@ def build_column(config: Config) -> ColumnCollapse:
                             velocity_floor=config.numerics.velocity_floor)
     problem = ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
                              mover=mover, simulation=simulation)
-    if config.mesh.remesh_quality > 0:
-        simulation.remesher = problem
+    simulation.remesher = problem
     return problem
 
 
