@@ -77,7 +77,6 @@ class Simulation:
     rejected_steps: int = 0
     nonlinear_iterations: int = 0
     unconverged_steps: int = 0
-    momentum_solves: int = 0
     remeshed_this_step: bool = False
     _rejections_in_row: int = field(default=0, repr=False)
 
@@ -88,7 +87,7 @@ class Simulation:
     @property
     def linear_solves(self) -> int:
         """Momentum solves (one per fixed-point iteration) plus mesh-velocity solves."""
-        return self.momentum_solves + getattr(self.mesh_motion, "velocity_solves", 0)
+        return self.nonlinear_iterations + getattr(self.mesh_motion, "velocity_solves", 0)
 
     def _attempt(self, dt: float, tol: float) -> tuple[IterationReport | None, str | None]:
         """One try at a step of size dt (shortened by the mesh motion if it must)."""
@@ -105,7 +104,6 @@ class Simulation:
         self.dt = dt
         report = self.solver.solve_step(dt, tol, self.max_iterations, self.velocity_floor)
         self.nonlinear_iterations += report.iterations
-        self.momentum_solves += report.iterations
         if not report.finite:
             if motion is not None:
                 motion.undo()
@@ -123,6 +121,9 @@ class Simulation:
                 report, problem = self._attempt(dt, tol)
             except Exception as exc:  # a solver failure is a result, not a crash
                 report, problem = None, f"{type(exc).__name__}: {exc}"
+                if self.mesh_motion is not None:
+                    self.mesh_motion.undo()
+                self.solver.reject()
             if problem is not None:
                 self.rejected_steps += 1
                 self._rejections_in_row += 1
