@@ -40,17 +40,26 @@ class BoundaryChain:
         return np.setdiff1d(surface, fixed)
 
     def surface_polyline(self) -> np.ndarray:
-        """Surface vertex coordinates ordered from the wall top to the front foot."""
+        """Surface vertex coordinates from the wall top to the front.
+
+        The boundary runs counter-clockwise, so each surface chain runs from its front end
+        towards the wall; deposition can split the surface into several chains (a bed edge
+        between them). Chains are taken front first, then the whole list is reversed.
+        """
         xy = self.mesh.ngmesh.Coordinates()
         seg = self.segments[self.labels() == self.index[SURFACE]]
         nxt = {int(a): int(b) for a, b in seg}
-        starts = set(nxt) - {int(b) for b in seg[:, 1]}
-        start = min(starts, key=lambda v: xy[v, 0]) if starts else int(seg[0, 0])
-        chain, v = [start], start
-        while v in nxt and len(chain) <= len(seg):
-            v = nxt[v]
+        starts = sorted(set(nxt) - {int(b) for b in seg[:, 1]}, key=lambda v: -xy[v, 0])
+        if not starts:
+            starts = [int(seg[0, 0])]
+        chain: list[int] = []
+        for start in starts:
+            v = start
             chain.append(v)
-        return xy[chain]
+            while v in nxt and len(chain) <= 2 * len(seg):
+                v = nxt[v]
+                chain.append(v)
+        return xy[chain[::-1]]
 
     def deposit(self, tol: float) -> int:
         """Relabel surface segments lying on the bed (Z <= tol) or wall (X <= tol)."""
