@@ -57,7 +57,8 @@ class PicardIteration:
         """
         self.f.Assemble()
         self._mass.Assemble()
-        floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), self.iterate.space.mesh))
+        floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), self.iterate.space.mesh)) \
+            if velocity_floor > 0 else 0.0
         change = math.inf
         for k in range(1, max_iterations + 1):
             self.a.Assemble()

@@ -21,9 +21,9 @@ from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
-from granflow.physics import CoulombFriction, DruckerPrager
-from granflow.scenarios.plug_flow import gravity_vector, step_policy
+from granflow.physics import CoulombFriction, DruckerPrager, gravity_vector
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.timestep import step_policy
 
 SECTION_OFFSETS = (-0.10, 0.0, 0.10)  # m, around X_g = the initial front (section 5.2)
 
@@ -69,11 +69,11 @@ class ColumnCollapse:
         self.fresh_quality = float(shape_quality(mesh).min())
 
     # --- observers' side ---------------------------------------------------------------
-    def shape_measures(self) -> dict[str, float]:
+    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
+        """Front, its speed (cells touching the front vertex) and the height at the wall."""
         xy = self.mesh.ngmesh.Coordinates()
         tri = triangles(self.mesh)
         at_front = np.any(tri == int(np.argmax(xy[:, 0])), axis=1)
-        cell_speed, _ = cell_means(self.mesh, ngs.Norm(self.solver.velocity))
         speed = float(cell_speed[at_front].max())      # cells touching the front vertex
         return {"front_x": front_diag.front_position(xy), "front_speed": speed,
                 "wall_height": front_diag.wall_height(xy)}

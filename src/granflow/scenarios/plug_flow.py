@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -15,16 +14,10 @@ from granflow.diagnostics.plug_flow import velocity_relative_error_l2, vertical_
 from granflow.fem.flow import FlowSolver
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.io.run_dir import RunDir
-from granflow.physics import DruckerPrager
+from granflow.physics import DruckerPrager, gravity_vector
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.timestep import RampedStep, fixed_step
-
-
-def gravity_vector(gravity: float, slope_deg: float) -> tuple[float, float]:
-    """f = (g sin theta, -g cos theta) in the bed-aligned frame (X, Z) (section 2.1)."""
-    theta = math.radians(slope_deg)
-    return gravity * math.sin(theta), -gravity * math.cos(theta)
+from granflow.simulation.timestep import step_policy
 
 
 @dataclass
@@ -54,7 +47,7 @@ class PlugFlow:
         ref = self.reference(t)
         return velocity_relative_error_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
 
-    def shape_measures(self) -> dict[str, float]:
+    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
         return {}
 
     def record(self, row: dict[str, float]) -> None:
@@ -87,15 +80,6 @@ class PlugFlow:
         plot_plug_profile(run_dir.path("plots/velocity_profile.png"), z, u[:, 0], ref, t)
 
 
-def step_policy(config: Config) -> RampedStep:
-    """The fixed step when ``time.dt`` is set, else the ramp of section 3.1."""
-    tm, num = config.time, config.numerics
-    if tm.dt is not None:
-        return fixed_step(tm.t_end, tm.dt, num.tol, list(tm.output_times))
-    return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
-                      tol=num.tol, tol_init=num.tol_init or num.tol, stops=list(tm.output_times))
-
-
 def build_plug_flow(config: Config) -> PlugFlow:
     """Mesh, initial state U0 = alpha1 [Z - b0]_+ with hydrostatic pressure, and the loop."""
     geo, mat = config.geometry, config.material
@@ -116,5 +100,6 @@ def build_plug_flow(config: Config) -> PlugFlow:
         motion = AleMover(mesh, w_solver)
     simulation = Simulation(solver=solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end,
-                            max_iterations=config.numerics.max_iterations, mesh_motion=motion)
+                            max_iterations=config.numerics.max_iterations, mesh_motion=motion,
+                            velocity_floor=config.numerics.velocity_floor)
     return PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)

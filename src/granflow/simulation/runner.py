@@ -12,6 +12,7 @@ import traceback
 from typing import Any, Protocol
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED, state_measures
@@ -34,7 +35,7 @@ class Problem(Protocol):
     solver: FlowSolver
     simulation: Simulation
 
-    def shape_measures(self) -> dict[str, float]: ...
+    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]: ...
     def record(self, row: dict[str, float]) -> None: ...
     def write_profiles(self, run_dir: RunDir, t: float) -> None: ...
     def summary(self, result: RunResult) -> dict[str, Any]: ...
@@ -79,8 +80,10 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
 
     def record(s: Simulation) -> None:
         row = {"t": s.t, "dt": s.dt, "iterations": s.last_report.iterations}
-        row |= problem.shape_measures()
-        row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density)
+        speed = cell_means(problem.mesh, ngs.Norm(problem.solver.velocity))  # once per step
+        row |= problem.shape_measures(speed[0])
+        row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
+                              speed)
         log.write([row.get(c, math.nan) for c in DIAGNOSTIC_COLUMNS])
         problem.record(row)
 

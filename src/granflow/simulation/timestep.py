@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from granflow.config import Config
 
 RECOVERY_GROWTH = 2.0  # regrowth of dt after a rejected step, once the ramp is over
 
@@ -64,3 +68,12 @@ def fixed_step(t_end: float, dt: float, tol: float, stops: list[float] | None = 
     dt = t_end / max(1, round(t_end / dt))
     return RampedStep(t_end=t_end, dt_init=dt, dt_max=dt, growth=1.0, tol=tol, tol_init=tol,
                       stops=stops or [])
+
+
+def step_policy(config: Config) -> RampedStep:
+    """The fixed step when ``time.dt`` is set, else the ramp of section 3.1."""
+    tm, num = config.time, config.numerics
+    if tm.dt is not None:
+        return fixed_step(tm.t_end, tm.dt, num.tol, list(tm.output_times))
+    return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
+                      tol=num.tol, tol_init=num.tol_init or num.tol, stops=list(tm.output_times))
