@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from granflow.ale.free_surface import BoundaryChain, polygon_area
-from granflow.ale.remesh import remesh, shape_quality
+from granflow.ale.free_surface import BoundaryChain, polygon_area, segments_intersect
+from granflow.ale.remesh import kept_boundary_vertices, remesh, shape_quality
 from granflow.geometry.domains import column
 from granflow.geometry.mesh import (
     BED,
@@ -53,3 +53,19 @@ def test_remesh_keeps_the_labelled_boundary() -> None:
         assert set(np.round(new.ngmesh.Coordinates()[new_chain.vertices(label)], 12).ravel()) \
             >= {0.0}
     assert shape_quality(new).min() > 0.2
+
+
+def test_remesh_merges_a_hairpin_of_overtaking_surface_nodes() -> None:
+    """(3.7) lets surface nodes slide; converging ones can overtake and fold the surface
+    into a zero-thickness hairpin (seen on the rectangle at half mesh size, t = 0.274 s).
+    The remesh merges the bunched nodes so the new boundary is a simple polygon."""
+    surface = [(0.40, 0.0), (0.35, 0.020), (0.3039, 0.02006), (0.30387, 0.020066),
+               (0.30384, 0.020067), (0.3040, 0.020066), (0.25, 0.03), (0.10, 0.05),
+               (0.0, 0.05)]
+    pts = np.array([(0.0, 0.0), *surface])
+    labels = [BED] + [SURFACE] * (len(surface) - 1) + [WALL]
+    keep = kept_boundary_vertices(pts, labels, min_edge=7e-4)
+    assert keep == [0, 1, 2, 3, 7, 8, 9]     # the three nodes of the hairpin are merged
+    ring = np.array([[i, (i + 1) % len(keep)] for i in range(len(keep))])
+    assert not segments_intersect(pts[keep], ring)
+    assert pts[6, 0] > pts[3, 0]             # node 6 had overtaken nodes 3 to 5

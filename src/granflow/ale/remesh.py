@@ -11,11 +11,12 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from granflow.ale.free_surface import BoundaryChain
+from granflow.ale.free_surface import BoundaryChain, segments_intersect
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
+MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
 
 
 def shape_quality(mesh: ngs.Mesh) -> np.ndarray:
@@ -52,25 +53,56 @@ def remesh(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
     which Netgen splits at ``size``), and so are free-surface vertices where the surface
     turns by less than ``STRAIGHT_DEG``: three such vertices would otherwise make a flat
-    triangle with two boundary edges, which inverts as the surface straightens. The area
-    this removes (a sliver) is restored by the area correction of the next move.
+    triangle with two boundary edges, which inverts as the surface straightens. Surface
+    vertices bunched closer than ``MIN_SURFACE_EDGE * size`` are merged: (3.7) lets nodes
+    slide along the surface, and where they converge they can overtake one another and
+    fold the surface into a hairpin of zero thickness. The area this removes (a sliver) is
+    restored by the area correction of the next move.
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
-    pts = xy[loop]
+    keep = kept_boundary_vertices(xy[loop], labels, MIN_SURFACE_EDGE * size)
+    points = [tuple(xy[loop[i]]) for i in keep]
+    edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
+    n = len(points)
+    ring = np.array([[i, (i + 1) % n] for i in range(n)])
+    if segments_intersect(np.array(points), ring):
+        raise RuntimeError("the free surface folded through itself and merging close surface "
+                           "nodes does not untangle it; cannot remesh")
+    return polygon_mesh(points, edge_labels, size)
+
+
+def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) -> list[int]:
+    """Indices of the boundary loop ``pts`` that a remesh keeps (see ``remesh``).
+
+    ``labels[i]`` is the label of the edge leaving vertex i. Bed/wall corners and the
+    contact points of the surface are always kept.
+    """
     before, after = pts - np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0) - pts
     turn = np.degrees(np.abs(np.arctan2(
         before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0],
         np.sum(before * after, axis=1))))
-    keep, dropped_previous = [], False
-    for i in range(len(loop)):
+    keep: list[int] = []
+    dropped_previous = False
+    for i in range(len(pts)):
         straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL)
-        flat = labels[i - 1] == labels[i] == SURFACE and turn[i] < STRAIGHT_DEG
-        if straight_run or (flat and not dropped_previous):  # never two surface nodes in a row
+        inner_surface = labels[i - 1] == labels[i] == SURFACE
+        flat = inner_surface and turn[i] < STRAIGHT_DEG
+        close = inner_surface and bool(keep) and (
+            np.linalg.norm(pts[i] - pts[keep[-1]]) < min_edge
+            or np.linalg.norm(pts[i] - pts[_next_fixed(labels, i)]) < min_edge)
+        if straight_run or close or (flat and not dropped_previous):  # never two flat in a row
             dropped_previous = flat
             continue
         dropped_previous = False
         keep.append(i)
-    points = [tuple(xy[loop[i]]) for i in keep]
-    edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
-    return polygon_mesh(points, edge_labels, size)
+    return keep
+
+
+def _next_fixed(labels: list[str], i: int) -> int:
+    """The next vertex after i that is not an inner surface vertex (a contact point)."""
+    n = len(labels)
+    j = (i + 1) % n
+    while labels[j - 1] == labels[j] == SURFACE and j != i:
+        j = (j + 1) % n
+    return j

@@ -38,6 +38,7 @@ class Remesher(Protocol):
     def remesh(self) -> None: ...
 
 
+REMESHABLE = ("inverted", "self-intersects")  # move failures a new mesh can cure
 Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
 
@@ -128,7 +129,7 @@ class Simulation:
                 self.rejected_steps += 1
                 self._rejections_in_row += 1
                 if (self.remesher is not None and not self.remeshed_this_step
-                        and "inverted" in problem):
+                        and any(word in problem for word in REMESHABLE)):
                     self.remesher.remesh()      # a tangling move: new mesh, same dt
                     self.remeshed_this_step = True
                     continue
