@@ -18,7 +18,8 @@ from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
         "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m",
-        "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs"]
+        "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
+        "surface_edge_spread", "remeshes"]
 
 
 def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path) -> dict:

@@ -35,3 +35,16 @@ def front_stop_time(t: np.ndarray, front_speed: np.ndarray,
     if fast.size == 0 or fast[-1] == len(t) - 1:
         return None
     return float(t[fast[-1] + 1])
+
+
+def thick_front(surface: np.ndarray, thickness: float = 1e-3) -> float:
+    """Largest X where the free surface (x, z polyline) stands at least ``thickness`` above
+    the bed: a runout that ignores the micrometre-thin tongue a regularised front leaves."""
+    thick = surface[:, 1] >= thickness
+    return float(surface[thick, 0].max()) if np.any(thick) else 0.0
+
+
+def surface_edge_spread(surface: np.ndarray) -> float:
+    """Longest over shortest free-surface edge: how evenly the ALE keeps the surface nodes."""
+    lengths = np.linalg.norm(np.diff(surface, axis=0), axis=1)
+    return float(lengths.max() / lengths.min()) if lengths.min() > 0 else float("inf")

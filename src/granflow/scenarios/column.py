@@ -135,8 +135,11 @@ class ColumnCollapse:
     def summary(self, result: RunResult) -> dict[str, Any]:
         h = {k: np.asarray(v) for k, v in self.history.items()}
         xy = self.mesh.ngmesh.Coordinates()
+        surface = self.surface()
         return {
             "runout_m": front_diag.front_position(xy),
+            "runout_1mm_m": front_diag.thick_front(surface),
+            "surface_edge_spread": front_diag.surface_edge_spread(surface),
             "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"])),
             "runout_at_stop_m": float(np.interp(stop, h["t"], h["front_x"])) if stop else None,
             "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),

@@ -1,0 +1,35 @@
+"""Front diagnostics of the collapse: stop times, thick front, surface node spread."""
+
+import numpy as np
+import pytest
+
+from granflow.diagnostics.front import (
+    front_stop_time,
+    stop_time,
+    surface_edge_spread,
+    thick_front,
+)
+
+
+def test_stop_time_is_the_first_static_step_after_the_onset() -> None:
+    t = np.arange(6) * 0.1
+    assert stop_time(t, np.array([0, 0.5, 0.4, 0.0, 0.1, 0.0])) == pytest.approx(0.3)
+    assert stop_time(t, np.zeros(6)) is None
+    assert stop_time(t, np.array([0, 1, 1, 1, 1, 1.0])) is None
+
+
+def test_front_stop_time_ignores_a_front_that_still_moves_at_the_end() -> None:
+    t = np.arange(5) * 0.1
+    assert front_stop_time(t, np.array([0.1, 0.1, 5e-4, 2e-3, 1e-4])) == pytest.approx(0.4)
+    assert front_stop_time(t, np.array([0.1, 0.1, 0.1, 0.1, 0.1])) is None
+
+
+def test_thick_front_skips_the_micrometre_tongue() -> None:
+    surface = np.array([[0.0, 0.2], [0.3, 0.05], [0.45, 2e-3], [0.5, 5e-4], [0.6, 0.0]])
+    assert thick_front(surface) == pytest.approx(0.45)
+    assert thick_front(surface, thickness=1e-4) == pytest.approx(0.5)
+
+
+def test_surface_edge_spread_is_longest_over_shortest_edge() -> None:
+    surface = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.25], [3.0, 0.25]])
+    assert surface_edge_spread(surface) == pytest.approx(8.0)
