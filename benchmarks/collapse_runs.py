@@ -17,7 +17,8 @@ from granflow.io.run_dir import RunDir
 from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
-        "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m",
+        "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s",
+        "front_settle_time_s", "runout_m",
         "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
         "surface_edge_spread", "remeshes"]
 

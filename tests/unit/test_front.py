@@ -5,6 +5,7 @@ import pytest
 
 from granflow.diagnostics.front import (
     front_stop_time,
+    settle_time,
     stop_time,
     surface_edge_spread,
     thick_front,
@@ -33,3 +34,10 @@ def test_thick_front_skips_the_micrometre_tongue() -> None:
 def test_surface_edge_spread_is_longest_over_shortest_edge() -> None:
     surface = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.25], [3.0, 0.25]])
     assert surface_edge_spread(surface) == pytest.approx(8.0)
+
+
+def test_settle_time_is_when_the_front_comes_within_tolerance_of_its_final_position() -> None:
+    t = np.arange(6) * 0.1
+    front = np.array([0.30, 0.40, 0.448, 0.4497, 0.4502, 0.4505])
+    assert settle_time(t, front) == pytest.approx(0.3)
+    assert settle_time(t, np.full(6, 0.3)) is None

@@ -48,3 +48,16 @@ def surface_edge_spread(surface: np.ndarray) -> float:
     """Longest over shortest free-surface edge: how evenly the ALE keeps the surface nodes."""
     lengths = np.linalg.norm(np.diff(surface, axis=0), axis=1)
     return float(lengths.max() / lengths.min()) if lengths.min() > 0 else float("inf")
+
+
+def settle_time(t: np.ndarray, front_x: np.ndarray, tol: float = 1e-3) -> float | None:
+    """First time after which the front stays within ``tol`` of its final position.
+
+    Less sensitive to the mesh than ``front_stop_time``, which looks at the speed of the
+    few cells at the tip. None if the front never moved by more than ``tol``.
+    """
+    t, front_x = np.asarray(t), np.asarray(front_x)
+    if front_x.size == 0 or np.all(np.abs(front_x - front_x[-1]) <= tol):
+        return None
+    away = np.flatnonzero(np.abs(front_x - front_x[-1]) > tol)
+    return float(t[away[-1] + 1]) if away[-1] + 1 < len(t) else None

@@ -143,6 +143,7 @@ class ColumnCollapse:
             "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"])),
             "runout_at_stop_m": float(np.interp(stop, h["t"], h["front_x"])) if stop else None,
             "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),
+            "front_settle_time_s": front_diag.settle_time(h["t"], h["front_x"]),
             "wall_height_m": front_diag.wall_height(xy),
             "initial_area_m2": self.mover.initial_area,
             "deposited_segments": self.mover.relabelled_segments,
