@@ -56,8 +56,8 @@ def settle_time(t: np.ndarray, front_x: np.ndarray, tol: float = 1e-3) -> float 
     Less sensitive to the mesh than ``front_stop_time``, which looks at the speed of the
     few cells at the tip. None if the front never moved by more than ``tol``.
     """
-    t, front_x = np.asarray(t), np.asarray(front_x)
-    if front_x.size == 0 or np.all(np.abs(front_x - front_x[-1]) <= tol):
+    front_x = np.asarray(front_x)
+    away = np.flatnonzero(np.abs(front_x - front_x[-1]) > tol) if front_x.size else []
+    if len(away) == 0 or away[-1] + 1 == len(t):
         return None
-    away = np.flatnonzero(np.abs(front_x - front_x[-1]) > tol)
-    return float(t[away[-1] + 1]) if away[-1] + 1 < len(t) else None
+    return float(t[away[-1] + 1])
