@@ -77,7 +77,7 @@ def main() -> None:
                     "-" if c is None else f"{c:+.3f}" for c in change) + " |")
             if h is None:
                 continue
-            style = {"color": f"C{k}", "lw": 1.2, "label": label}
+            style = {"color": f"C{k}", "lw": 3.0 if k == 0 else 1.2, "label": label}
             axes[0].plot(h["t"], h["front_x"], **style)
             axes[1].plot(h["t"], h["flowing_fraction"], **style)
             axes[2].semilogy(h["t"], np.maximum(h["kinetic_energy"], 1e-12), **style)

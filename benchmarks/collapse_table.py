@@ -3,7 +3,7 @@
 Run: python benchmarks/collapse_table.py   (after collapse_runs.py / collapse_study.py)
 Prints a markdown table of every OUT/*.json (figures as the runs recorded them in their
 summaries) and writes OUT/table.md, OUT/comparison.json
-and OUT/mesh_velocity_comparison.png (free surfaces of (3.6) and (3.7) at the output times).
+and OUT/figures/mesh_velocity_comparison.png (free surfaces of (3.6) and (3.7) at the output times).
 """
 
 from __future__ import annotations
@@ -85,7 +85,8 @@ def main() -> None:
             ax.set(title=f"{shape}, {label}: (3.6) solid, (3.7) dashed", aspect="equal",
                    xlabel="X (m)", ylabel="Z (m)")
     axes[0][0].legend(fontsize=7)
-    fig.savefig(OUT / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
+    (OUT / "figures").mkdir(exist_ok=True)
+    fig.savefig(OUT / "figures" / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
 
 
 if __name__ == "__main__":
