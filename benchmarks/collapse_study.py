@@ -25,7 +25,7 @@ S52 = ["time.dt=1e-3", "numerics.tol=1e-3"]
 VARIANTS: dict[str, list[str] | dict[str, list[str]]] = {
     "fine-mesh": {s: [HALF[s]] for s in SHAPES},
     "fine-dt": ["time.dt_max=1e-5"],
-    "lagrange": ["numerics.mesh_velocity=\"lagrange\""],
+    "lagrange": {s: ["numerics.mesh_velocity=\"lagrange\""] for s in SHAPES},
     "no-volfix": ["numerics.volume_correction=false"],
     "s52-elastic": S52,
     "s52-lagrange": [*S52, "numerics.mesh_velocity=\"lagrange\""],
