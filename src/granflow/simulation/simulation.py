@@ -80,6 +80,7 @@ class Simulation:
     unconverged_steps: int = 0
     remeshed_this_step: bool = False
     _rejections_in_row: int = field(default=0, repr=False)
+    _remesh_error: str = field(default="", repr=False)
 
     def replace(self, solver: FlowSolver, mesh_motion: MeshMotion) -> None:
         """Continue on a new mesh (after a remesh): same time, counters and policy."""
@@ -130,9 +131,12 @@ class Simulation:
                 self._rejections_in_row += 1
                 if (self.remesher is not None and not self.remeshed_this_step
                         and any(word in problem for word in REMESHABLE)):
-                    self.remesher.remesh()      # a tangling move: new mesh, same dt
                     self.remeshed_this_step = True
-                    continue
+                    try:
+                        self.remesher.remesh()  # a tangling move: new mesh, same dt
+                        continue
+                    except RuntimeError as exc:  # then fall back to smaller steps
+                        self._remesh_error = f"; remeshing failed: {exc}"
                 try:
                     if self._rejections_in_row > self.max_consecutive_rejections:
                         raise RuntimeError("too many consecutive rejected steps")
@@ -141,12 +145,13 @@ class Simulation:
                 except RuntimeError as exc:
                     status = "failed"
                     message = (f"step {self.step + 1} at t = {self.t:.6g} s (dt = {dt:.3g} s) "
-                               f"failed: {problem}; {exc}. Try a smaller time.dt_max or "
-                               "mesh.size, or a larger numerics.max_iterations")
+                               f"failed: {problem}{self._remesh_error}; {exc}. Try a smaller "
+                               "time.dt_max or mesh.size, or a larger numerics.max_iterations")
                     break
             assert report is not None
             self._rejections_in_row = 0
             self.remeshed_this_step = False
+            self._remesh_error = ""
             if not report.converged:
                 self.unconverged_steps += 1
             self.solver.accept()

@@ -1,0 +1,80 @@
+"""The time loop's handling of failed moves: remesh once, then smaller steps, then a
+clear failure naming the time, the step and what to change."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from granflow.fem.nonlinear import IterationReport
+from granflow.simulation.simulation import Simulation
+from granflow.simulation.timestep import fixed_step
+
+
+class StubSolver:
+    """Converges at once; the loop only needs the report."""
+
+    def solve_step(self, dt: float, tol: float, max_iterations: int,
+                   velocity_floor: float = 0.0) -> IterationReport:
+        return IterationReport(converged=True, iterations=1, relative_change=0.0)
+
+    def accept(self) -> None: ...
+    def reject(self) -> None: ...
+
+
+@dataclass
+class FoldingMotion:
+    """A mesh motion whose first ``failures`` moves fold the surface through itself."""
+
+    failures: int
+    moves: int = 0
+
+    def prepare(self, dt: float) -> float:
+        return dt
+
+    def move(self, dt: float) -> None:
+        self.moves += 1
+
+    def check(self) -> str | None:
+        if self.moves <= self.failures:
+            return "the boundary polygon self-intersects (the surface folded through)"
+        return None
+
+    def undo(self) -> None: ...
+    def after_accept(self) -> None: ...
+
+
+@dataclass
+class StubRemesher:
+    fails: bool
+    calls: int = 0
+
+    def needs_remesh(self) -> bool:
+        return False
+
+    def remesh(self) -> None:
+        self.calls += 1
+        if self.fails:
+            raise RuntimeError("cannot remesh")
+
+
+def loop(motion: FoldingMotion, remesher: StubRemesher) -> Simulation:
+    return Simulation(solver=StubSolver(), steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                      t_end=0.01, max_iterations=10, mesh_motion=motion, remesher=remesher)
+
+
+def test_a_folding_move_is_cured_by_one_remesh_at_the_same_dt() -> None:
+    remesher = StubRemesher(fails=False)
+    result = loop(FoldingMotion(failures=1), remesher).run()
+    assert result.status == "completed" and result.steps == 10
+    assert remesher.calls == 1 and result.rejected_steps == 1
+
+
+def test_a_move_no_remesh_can_cure_fails_with_time_step_and_advice() -> None:
+    remesher = StubRemesher(fails=True)
+    result = loop(FoldingMotion(failures=10**6), remesher).run()
+    assert result.status == "failed" and result.steps == 0
+    assert remesher.calls == 1                     # tried once, then smaller steps
+    assert result.rejected_steps == 13             # 12 consecutive rejections allowed
+    for part in ("step 1", "t = 0 s", "self-intersects", "remeshing failed",
+                 "too many consecutive rejected steps", "time.dt_max"):
+        assert part in result.message
