@@ -22,8 +22,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from granflow.diagnostics.front import settle_time  # noqa: E402
-
 SHAPES = ["trapezoid-rigid", "rectangle-rigid"]
 RUNS = [("paper", "default mesh, dt_max 1e-4"), ("fine-mesh", "mesh size / 2"),
         ("fine-dt", "dt_max 1e-5")]
@@ -65,8 +63,6 @@ def main() -> None:
         base = None
         for k, (tag, label) in enumerate(RUNS):
             record, h = summary(out, tag, shape), history(out, tag, shape)
-            if record is not None and h is not None and record.get("front_settle_time_s") is None:
-                record["front_settle_time_s"] = settle_time(h["t"], h["front_x"])  # older runs
             if k == 0:
                 base = record
             if record is not None:

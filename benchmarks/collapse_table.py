@@ -18,8 +18,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from granflow.diagnostics.front import settle_time  # noqa: E402
-
 OUT = Path("benchmarks/results/collapse")
 COLUMNS = ["status", "stop_time_s", "front_stop_time_s", "front_settle_time_s", "runout_m",
            "wall_height_m",
@@ -35,17 +33,6 @@ def surface(run: Path, t: float) -> np.ndarray | None:
         return np.array([[float(r["x"]), float(r["z"])] for r in csv.DictReader(fh)])
 
 
-def front_settle_time(out: Path, tag: str, scenario: str) -> float | None:
-    """Settle time from the run directory's diagnostics.csv, if the run directory is here."""
-    path = out / tag / scenario / "diagnostics.csv"
-    if not path.exists():
-        return None
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
-    return settle_time(np.array([float(r["t"]) for r in rows]),
-                       np.array([float(r["front_x"]) for r in rows]))
-
-
 def main() -> None:
     rows = []
     for path in sorted(OUT.glob("*.json")):
@@ -53,8 +40,6 @@ def main() -> None:
             continue
         tag = path.stem
         for scenario, r in json.loads(path.read_text()).items():
-            if r.get("front_settle_time_s") is None:  # runs recorded before it was summarised
-                r["front_settle_time_s"] = front_settle_time(OUT, tag, scenario)
             rows.append({"variant": tag, "scenario": scenario, **{c: r.get(c) for c in COLUMNS}})
     head = ["variant", "scenario", *COLUMNS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
