@@ -46,7 +46,7 @@ def test_invalid_set_exits_2_with_one_line_and_creates_nothing(granflow_cli,
     (["run", "--set", "material.friction_angle_deg=90"], "material.friction_angle_deg = 90"),
     (["run", "no-such-scenario"], "unknown scenario 'no-such-scenario'"),
     (["run", "missing.toml"], "scenario file 'missing.toml' not found"),
-    (["run", "trapezoid-rigid", "--set", "numerics.linearization=newton", "--out", "x"],
+    (["run", "trapezoid-rigid", "--set", "material.rheology=mu-i", "--out", "x"],
      "not implemented yet"),
 ])
 def test_config_errors_exit_2_before_creating_anything(

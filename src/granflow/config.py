@@ -134,7 +134,7 @@ class Numerics(_Section):
     tol: Fraction  # stopping tolerance of the fixed-point iteration (3.2)
     tol_init: Fraction | None  # start tolerance of the ramp; None = tol
     max_iterations: Annotated[int, Field(ge=1)]
-    linearization: Literal["picard", "newton"]
+    linearization: Literal["picard", "newton", "hybrid"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
     mesh_penalty: Positive
     velocity_floor: Annotated[float, Field(ge=0)]  # m/s, floor of ||u|| in the (3.2) criterion
@@ -151,7 +151,12 @@ class Time(_Section):
     dt_init: Positive
     dt_max: Positive
     dt_growth: Annotated[float, Field(ge=1)]
-    adaptive: bool
+    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (3.1)
+    error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
+    error_floor: Positive  # adaptive: m/s, RMS speed below which the error is absolute
+    stop_at_rest: bool  # end the run once the mass has come to rest
+    rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
+    rest_duration: NonNegative  # s the mass must stay at rest before the run ends
     output_times: list[float]
 
 
@@ -240,9 +245,7 @@ def _problems(c: Config) -> Iterator[str]:
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
     not_yet = {
-        "numerics.linearization": (c.numerics.linearization, "newton", "'picard'"),
         "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
-        "time.adaptive": (c.time.adaptive, True, "false"),
         "surface_tension.enabled": (c.surface_tension.enabled, True, "false"),
     }
     for key, (value, reserved, use) in not_yet.items():

@@ -12,11 +12,21 @@ from granflow.diagnostics.front import (
 )
 
 
-def test_stop_time_is_the_first_static_step_after_the_onset() -> None:
+def test_stop_time_is_where_the_mass_stays_static_to_the_end() -> None:
     t = np.arange(6) * 0.1
-    assert stop_time(t, np.array([0, 0.5, 0.4, 0.0, 0.1, 0.0])) == pytest.approx(0.3)
-    assert stop_time(t, np.zeros(6)) is None
-    assert stop_time(t, np.array([0, 1, 1, 1, 1, 1.0])) is None
+    flowing = np.array([0, 0.5, 0.4, 0.0, 0.1, 0.0])
+    assert stop_time(t, flowing) == pytest.approx(0.5)              # it moved again at 0.4
+    assert stop_time(t, np.zeros(6)) is None                         # never moved
+    assert stop_time(t, np.array([0, 1, 1, 1, 1, 1.0])) is None      # still flowing
+
+
+def test_stop_time_with_a_creeping_fraction() -> None:
+    """A tip holding 0.05 % of the area above the threshold does not keep the mass moving
+    when the rule allows 0.1 %."""
+    t = np.arange(6) * 0.1
+    flowing = np.array([0, 0.5, 0.2, 5e-4, 5e-4, 5e-4])
+    assert stop_time(t, flowing) is None
+    assert stop_time(t, flowing, fraction=1e-3) == pytest.approx(0.3)
 
 
 def test_front_stop_time_ignores_a_front_that_still_moves_at_the_end() -> None:

@@ -6,6 +6,7 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
+from granflow.ale.mesh_motion import MoveFailure
 from granflow.config import load_config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
@@ -77,7 +78,7 @@ def test_check_rejects_an_inverted_mesh() -> None:
     interior = np.setdiff1d(np.arange(len(xy)), np.unique(mover.chain.segments))
     mover.w_vertices[interior[0]] = [10.0, 10.0]                  # push one node far away
     mover.move(mover.prepare(0.1))
-    assert "inverted" in mover.check()
+    assert mover.check() is MoveFailure.INVERTED
     mover.undo()
     assert signed_areas(problem.mesh).min() > 0
 

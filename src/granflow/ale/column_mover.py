@@ -17,7 +17,7 @@ from granflow.ale.free_surface import (
     polygon_area,
     segments_intersect,
 )
-from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, vertex_values
+from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, MoveFailure, vertex_values
 from granflow.geometry.mesh import BED, SURFACE, WALL
 
 LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
@@ -99,15 +99,15 @@ class ColumnMover(AleMover):
         xy = self.mesh.ngmesh.Coordinates()
         return np.union1d(self.chain.vertices(WALL), np.flatnonzero(xy[:, 0] <= 0.0))
 
-    def check(self) -> str | None:
+    def check(self) -> MoveFailure | None:
         problem = super().check()
         if problem is not None:
             return problem
         xy = self.mesh.ngmesh.Coordinates()
         if np.any(xy[:, 1] < -1e-12) or np.any(xy[:, 0] < -1e-12):
-            return "a boundary node crossed the bed or the wall"
+            return MoveFailure.CROSSED_WALL
         if segments_intersect(xy, self.chain.segments):
-            return "the boundary polygon self-intersects (the surface folded through)"
+            return MoveFailure.SELF_INTERSECTS
         return None
 
     def after_accept(self) -> None:

@@ -6,6 +6,8 @@ mesh; the forms are built once and reassembled on the moved mesh.
 
 from __future__ import annotations
 
+from enum import Enum
+
 import ngsolve as ngs
 import numpy as np
 
@@ -23,6 +25,18 @@ def move_mesh(mesh: ngs.Mesh, displacement: np.ndarray) -> None:
     """Apply the map (3.1) X -> X + dt w at the vertices, in place (straight edges)."""
     coords = mesh.ngmesh.Coordinates()
     coords += displacement
+
+
+class MoveFailure(Enum):
+    """Why a mesh move was refused; the first two can be cured by remeshing."""
+
+    INVERTED = "inverted triangle(s) after the mesh move"
+    SELF_INTERSECTS = "the boundary polygon self-intersects (the surface folded through)"
+    CROSSED_WALL = "a boundary node crossed the bed or the wall"
+
+    @property
+    def remeshable(self) -> bool:
+        return self in (MoveFailure.INVERTED, MoveFailure.SELF_INTERSECTS)
 
 
 class _LinearMeshVelocity:
@@ -137,10 +151,9 @@ class AleMover:
         self._saved = self.mesh.ngmesh.Coordinates().copy()
         move_mesh(self.mesh, dt * self.w_vertices)
 
-    def check(self) -> str | None:
-        areas = signed_areas(self.mesh)
-        if np.any(areas <= 0):
-            return f"{int(np.sum(areas <= 0))} inverted triangle(s) after the mesh move"
+    def check(self) -> MoveFailure | None:
+        if np.any(signed_areas(self.mesh) <= 0):
+            return MoveFailure.INVERTED
         return None
 
     def undo(self) -> None:

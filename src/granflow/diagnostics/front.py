@@ -16,13 +16,17 @@ def wall_height(xy: np.ndarray, tol: float = 1e-12) -> float:
     return float(xy[on_wall, 1].max()) if np.any(on_wall) else 0.0
 
 
-def stop_time(t: np.ndarray, flowing_fraction: np.ndarray) -> float | None:
-    """First time after the onset of motion at which every cell is static."""
-    moving = np.flatnonzero(flowing_fraction > 0)
-    if moving.size == 0:
+def stop_time(t: np.ndarray, flowing_fraction: np.ndarray,
+              fraction: float = 0.0) -> float | None:
+    """Time from which the flowing cells hold at most ``fraction`` of the area to the end
+    of the record, after the onset of motion; with ``fraction`` 0, every cell is static.
+
+    None if the mass never moved or still flows at the end.
+    """
+    flowing = np.flatnonzero(np.asarray(flowing_fraction) > fraction)
+    if flowing.size == 0 or flowing[-1] == len(t) - 1:
         return None
-    after = np.flatnonzero((np.arange(len(t)) > moving[0]) & (flowing_fraction == 0))
-    return float(t[after[0]]) if after.size else None
+    return float(t[flowing[-1] + 1])
 
 
 def front_stop_time(t: np.ndarray, front_speed: np.ndarray,

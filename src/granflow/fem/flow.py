@@ -2,13 +2,26 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS
-from granflow.fem.forms import FrictionWall, build_momentum_forms, frobenius, strain_rate
-from granflow.fem.nonlinear import IterationReport, PicardIteration
+from granflow.fem.forms import (
+    FrictionWall,
+    fixed_point_forms,
+    frobenius,
+    momentum_terms,
+    residual_form,
+    strain_rate,
+)
+from granflow.fem.nonlinear import (
+    FixedPointSystem,
+    IterationReport,
+    NonlinearSolver,
+    ResidualSystem,
+)
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.physics import DruckerPrager
 
@@ -23,8 +36,9 @@ class FlowSolver:
     def __init__(self, mesh: ngs.Mesh, *, rheology: DruckerPrager, density: float,
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
-                 penalty: float = 0.0) -> None:
+                 penalty: float = 0.0, linearization: str = "picard") -> None:
         self.mesh = mesh
+        self.linearization = linearization
         self.rheology = rheology
         self.density = density
         self.space = taylor_hood(mesh, periodic=periodic, dirichlet=dirichlet)
@@ -32,11 +46,18 @@ class FlowSolver:
         self.previous = ngs.GridFunction(self.space)    # (u^n, p^n)
         self.mesh_velocity = ngs.GridFunction(vector_p2(mesh))
         self.dt = ngs.Parameter(1.0)
-        self.forms = build_momentum_forms(
-            self.space, self.solution, self.previous, self.mesh_velocity, rheology, density,
-            body_force, self.dt, walls, penalty)
-        self.picard = PicardIteration(self.forms.a, self.forms.f, self.solution,
-                                      self.space.FreeDofs())
+        self.before_previous = ngs.GridFunction(self.space)   # (u^{n-1}, p^{n-1})
+        self.dt_previous = 0.0                  # t^n - t^{n-1}; 0 = no history yet
+        self.terms = momentum_terms(
+            density=density, dt=self.dt, previous=self.previous.components[0],
+            mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
+            walls=walls, penalty=penalty)
+        freedofs = self.space.FreeDofs()
+        self.nonlinear = NonlinearSolver(
+            picard=FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),
+                                    freedofs),
+            newton=ResidualSystem(residual_form(self.space, self.terms), freedofs),
+            state=self.solution)
 
     @property
     def velocity(self) -> ngs.CoefficientFunction:
@@ -52,15 +73,56 @@ class FlowSolver:
         self.previous.components[0].Set(velocity)
         self.previous.components[1].Set(pressure)
         self.solution.vec.data = self.previous.vec
+        self.before_previous.vec.data = self.previous.vec
+        self.dt_previous = 0.0
 
     def solve_step(self, dt: float, tol: float, max_iterations: int,
                    velocity_floor: float = 0.0) -> IterationReport:
-        """(u^{n+1}, p^{n+1}) on the already-moved mesh, starting from (u^n, p^n)."""
-        self.dt.Set(dt)
-        self.solution.vec.data = self.previous.vec
-        return self.picard.solve(tol, max_iterations, velocity_floor)
+        """(u^{n+1}, p^{n+1}) on the already-moved mesh.
 
-    def accept(self) -> None:
+        Picard starts from (u^n, p^n) as in (3.2); Newton and the hybrid from the linear
+        extrapolation of the last two steps (when there are two), a better guess at no cost.
+        """
+        self.dt.Set(dt)
+        if self.linearization == "picard":
+            self.solution.vec.data = self.previous.vec
+            return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
+        self.predict(dt, self.solution)
+        if self.linearization == "newton":
+            return self.nonlinear.solve_newton(tol, max_iterations, velocity_floor)
+        return self.nonlinear.solve_hybrid(tol, max_iterations, velocity_floor)
+
+    def predict(self, dt: float, out: ngs.GridFunction) -> None:
+        """Linear extrapolation x^n + dt (x^n - x^{n-1}) / dt_{n-1} (x^n without history)."""
+        out.vec.data = self.previous.vec
+        if self.dt_previous > 0:
+            ratio = dt / self.dt_previous
+            out.vec.data += ratio * self.previous.vec
+            out.vec.data -= ratio * self.before_previous.vec
+
+    def local_error(self, dt: float) -> tuple[float, float] | None:
+        """(estimated local velocity error of the step, velocity scale), RMS over the domain.
+
+        Implicit Euler's local error is dt^2/2 u''; the step's difference from the linear
+        extrapolation of the last two steps, u^{n+1} - u_pred = dt (2 dt + dt_prev) / 2 u'',
+        measures it: error = dt / (2 dt + dt_prev) ||u^{n+1} - u_pred||. None before two
+        steps exist. Velocities are compared node by node: they are carried by the moving
+        mesh, so this is the error along the mesh trajectories, as the scheme (3.2) steps.
+        """
+        if self.dt_previous <= 0:
+            return None
+        predicted = self.nonlinear.scratch
+        self.predict(dt, predicted)
+        predicted.vec.data -= self.solution.vec
+        root_area = math.sqrt(self.volume())
+        difference = self.nonlinear.velocity_l2(predicted.vec)
+        speed = self.nonlinear.velocity_l2(self.solution.vec)
+        return dt / (2 * dt + self.dt_previous) * difference / root_area, speed / root_area
+
+    def accept(self, dt: float | None = None) -> None:
+        """(u^{n+1}, p^{n+1}) becomes the state; ``dt`` the step just taken."""
+        self.before_previous.vec.data = self.previous.vec
+        self.dt_previous = dt if dt is not None else 0.0
         self.previous.vec.data = self.solution.vec
 
     def reject(self) -> None:

@@ -1,27 +1,28 @@
-"""Weak forms of one fixed-point iteration of the momentum and mass equations (3.2).
+"""Terms of the momentum and mass equations (2.17), (3.2), each stated once for Picard
+and Newton.
 
-The forms are built once; their coefficients (the previous iterate, the previous time
-step, the mesh velocity, the time step) are NGSolve GridFunctions and Parameters, so an
-iteration only reassembles. Sign convention: N is the outward unit normal.
+A term gives its contribution to the residual R(u, p; v, q) of one implicit-Euler step.
+Its nonlinear coefficients (effective viscosity, friction drag, convecting velocity) are
+evaluated at a *linearisation point* (u_lin, p_lin):
+
+- Newton passes the unknowns themselves, so the residual is fully nonlinear and NGSolve
+  differentiates it symbolically (the consistent tangent with respect to u and p);
+- Picard (3.2) passes the current iterate (u^k, p^k), which makes the residual affine in
+  (u, p): its linearisation is exactly the matrix of the fixed-point iteration.
+
+Sign convention: N is the outward unit normal. Norms are Frobenius, no factor 1/2.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.physics import CoulombFriction, DruckerPrager
-
-
-@dataclass(frozen=True)
-class FrictionWall:
-    """A boundary region with Coulomb friction (2.8) and the non-penetration penalty (2.7)."""
-
-    region: str
-    law: CoulombFriction
 
 
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -34,62 +35,192 @@ def frobenius(tensor: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     return ngs.sqrt(ngs.InnerProduct(tensor, tensor))
 
 
-@dataclass
-class MomentumForms:
-    """Bilinear and linear forms of (3.2a)-(3.2b) for one Picard iteration."""
-
-    a: ngs.BilinearForm
-    f: ngs.LinearForm
-    effective_viscosity: ngs.CoefficientFunction
+def tangential(u: ngs.CoefficientFunction, n: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+    """u_T = u - (u.N) N."""
+    return u - (u * n) * n
 
 
-def build_momentum_forms(
-    space: ngs.FESpace,
-    iterate: ngs.GridFunction,
-    previous: ngs.GridFunction,
-    mesh_velocity: ngs.GridFunction,
-    rheology: DruckerPrager,
-    density: float,
-    body_force: tuple[float, float],
-    dt: ngs.Parameter,
-    walls: Sequence[FrictionWall] = (),
-    penalty: float = 0.0,
-) -> MomentumForms:
-    """Assemble-ready forms of (3.2a)-(3.2b) linearised at ``iterate`` = (u^k, p^k).
+@dataclass(frozen=True)
+class Symbols:
+    """Unknowns (u, p), tests (v, q) and the point (u_lin, p_lin) where coefficients live."""
 
-    ``previous`` holds u^n carried by the moving nodes (u^n o A^{-1}); ``mesh_velocity``
-    is w^n, also carried by the nodes.
+    u: ngs.CoefficientFunction
+    p: ngs.CoefficientFunction
+    v: ngs.CoefficientFunction
+    q: ngs.CoefficientFunction
+    u_lin: ngs.CoefficientFunction
+    p_lin: ngs.CoefficientFunction
+
+
+class Term(Protocol):
+    """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p)."""
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
+
+
+class _LhsOnly:
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
+        return None
+
+
+@dataclass(frozen=True)
+class Inertia:
+    """rho (u - u^n o A^-1) / dt . v (3.2a); ``previous`` is carried by the moving nodes."""
+
+    density: float
+    dt: ngs.Parameter
+    previous: ngs.CoefficientFunction
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density / self.dt * s.u * s.v * ngs.dx
+
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density / self.dt * self.previous * s.v * ngs.dx
+
+
+@dataclass(frozen=True)
+class Convection(_LhsOnly):
+    """rho [(u_lin - w) . grad] u . v: ALE convection with the mesh velocity w (3.2a)."""
+
+    density: float
+    mesh_velocity: ngs.CoefficientFunction
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density * (ngs.Grad(s.u) * (s.u_lin - self.mesh_velocity)) * s.v * ngs.dx
+
+
+@dataclass(frozen=True)
+class ViscoplasticStress(_LhsOnly):
+    """(2 eta + kappa(p_lin) / sqrt(|D u_lin|^2 + eps^2)) Du : Dv, the regularised law
+    (2.13) with kappa = sqrt(2) mu_s [p]_+ (2.4)."""
+
+    rheology: DruckerPrager
+
+    def viscosity(self, u_lin: ngs.CoefficientFunction,
+                  p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        du = strain_rate(u_lin)
+        return self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        m = self.viscosity(s.u_lin, s.p_lin)
+        return m * ngs.InnerProduct(strain_rate(s.u), strain_rate(s.v)) * ngs.dx
+
+
+@dataclass(frozen=True)
+class Incompressibility(_LhsOnly):
+    """-p div v - q div u: the pressure and the constraint (3.2a)-(3.2b)."""
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return (-s.p * ngs.div(s.v) - s.q * ngs.div(s.u)) * ngs.dx
+
+
+@dataclass(frozen=True)
+class BodyForce:
+    """rho f . v on the right-hand side: gravity in the bed frame (2.1a)."""
+
+    density: float
+    force: tuple[float, float]
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
+        return None
+
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density * ngs.CF(self.force) * s.v * ngs.dx
+
+
+@dataclass(frozen=True)
+class FrictionWall:
+    """A boundary region with Coulomb friction (2.8) and the non-penetration penalty (2.7)."""
+
+    region: str
+    law: CoulombFriction
+
+
+@dataclass(frozen=True)
+class CoulombWallFriction(_LhsOnly):
+    """mu [p - sigma'_N]_+ u_T . v_T / sqrt(|u_T|^2 + eps_f^2) on one wall (2.17a), the
+    drag and the normal load taken at (u_lin, p_lin) as in (3.2a).
+
+    sigma'_N = (sigma' N) . N needs the strain rate of the volume element at the wall,
+    hence a boundary skeleton integral.
     """
-    mesh = space.mesh
-    (u, p), (v, q) = space.TnT()
-    u_k, p_k = iterate.components
-    u_n = previous.components[0]
-    rho = density
 
-    du_k = strain_rate(u_k)
-    m_k = rheology.effective_viscosity(frobenius(du_k), p_k, NGSOLVE_OPS)  # (2.13) at u^k
+    wall: FrictionWall
+    stress: ViscoplasticStress
 
-    a = ngs.BilinearForm(space)
-    a += rho / dt * u * v * ngs.dx                                          # (3.2a) time
-    a += rho * (ngs.Grad(u) * (u_k - mesh_velocity)) * v * ngs.dx           # ALE convection
-    a += m_k * ngs.InnerProduct(strain_rate(u), strain_rate(v)) * ngs.dx    # regularised law
-    a += (-p * ngs.div(v) - q * ngs.div(u)) * ngs.dx                        # (3.2a)-(3.2b)
-
-    if walls:
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         n = ngs.specialcf.normal(mesh.dim)
-        u_t = u - (u * n) * n
-        v_t = v - (v * n) * n
-        uk_t = u_k - (u_k * n) * n
-        du_k_bnd = ngs.BoundaryFromVolumeCF(du_k)
-        m_k_bnd = rheology.effective_viscosity(frobenius(du_k_bnd), p_k, NGSOLVE_OPS)
-        sigma_n = m_k_bnd * ngs.InnerProduct(du_k_bnd * n, n)             # sigma'_N at u^k
-        for wall in walls:
-            drag = wall.law.drag_coefficient(ngs.Norm(uk_t), p_k - sigma_n, NGSOLVE_OPS)
-            region = mesh.Boundaries(wall.region)
-            a += drag * u_t * v_t * ngs.ds(definedon=region)               # Coulomb (2.17a)
-            a += penalty * (u * n) * (v * n) * ngs.ds(definedon=region)    # u.N = 0 (2.7)
+        frozen = s.u_lin is not s.u
+        du_lin = strain_rate(s.u_lin)
+        if frozen:      # a known field: its volume strain rate traced on the wall is cheaper
+            du_lin = ngs.BoundaryFromVolumeCF(du_lin)
+        m = self.stress.rheology.effective_viscosity_sq(ngs.InnerProduct(du_lin, du_lin),
+                                                        s.p_lin, NGSOLVE_OPS)
+        sigma_n = m * ngs.InnerProduct(du_lin * n, n)
+        slip = tangential(s.u_lin, n)
+        drag = self.wall.law.drag_coefficient_sq(slip * slip, s.p_lin - sigma_n, NGSOLVE_OPS)
+        region = mesh.Boundaries(self.wall.region)
+        measure = ngs.ds(definedon=region) if frozen else ngs.ds(skeleton=True, definedon=region)
+        return drag * tangential(s.u, n) * tangential(s.v, n) * measure
 
-    f = ngs.LinearForm(space)
-    f += rho / dt * u_n * v * ngs.dx
-    f += rho * ngs.CF(body_force) * v * ngs.dx                              # rho f, (2.1a)
-    return MomentumForms(a=a, f=f, effective_viscosity=m_k)
+
+@dataclass(frozen=True)
+class NormalPenalty(_LhsOnly):
+    """xi (u . N)(v . N): u . N = 0 on a wall, imposed weakly (2.7), (3.2a)."""
+
+    region: str
+    penalty: float
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        n = ngs.specialcf.normal(mesh.dim)
+        return self.penalty * (s.u * n) * (s.v * n) * ngs.ds(
+            definedon=mesh.Boundaries(self.region))
+
+
+def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.CoefficientFunction,
+                   mesh_velocity: ngs.CoefficientFunction, rheology: DruckerPrager,
+                   body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
+                   penalty: float = 0.0) -> list[Term]:
+    """The terms of (3.2a)-(3.2b) for a flow with the given walls."""
+    stress = ViscoplasticStress(rheology)
+    terms: list[Term] = [Inertia(density, dt, previous), Convection(density, mesh_velocity),
+                         stress, Incompressibility(), BodyForce(density, body_force)]
+    for wall in walls:
+        terms += [CoulombWallFriction(wall, stress), NormalPenalty(wall.region, penalty)]
+    return terms
+
+
+def _symbols(space: ngs.FESpace, linearisation: ngs.GridFunction | None) -> Symbols:
+    (u, p), (v, q) = space.TnT()
+    if linearisation is None:
+        return Symbols(u=u, p=p, v=v, q=q, u_lin=u, p_lin=p)
+    u_lin, p_lin = linearisation.components
+    return Symbols(u=u, p=p, v=v, q=q, u_lin=u_lin, p_lin=p_lin)
+
+
+def residual_form(space: ngs.FESpace, terms: Sequence[Term]) -> ngs.BilinearForm:
+    """R(x; v, q) = lhs - rhs with every coefficient at the unknowns (Newton): ``Apply``
+    gives R(x), ``AssembleLinearization`` the consistent tangent dR/dx."""
+    s = _symbols(space, None)
+    form = ngs.BilinearForm(space)
+    for term in terms:
+        if (lhs := term.lhs(s, space.mesh)) is not None:
+            form += lhs
+        if (rhs := term.rhs(s, space.mesh)) is not None:
+            form += (-1.0) * rhs
+    return form
+
+
+def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
+                      iterate: ngs.GridFunction) -> tuple[ngs.BilinearForm, ngs.LinearForm]:
+    """The same terms with coefficients frozen at ``iterate``: the matrix and right-hand
+    side of one Picard iteration (3.2)."""
+    s = _symbols(space, iterate)
+    a, f = ngs.BilinearForm(space), ngs.LinearForm(space)
+    for term in terms:
+        if (lhs := term.lhs(s, space.mesh)) is not None:
+            a += lhs
+        if (rhs := term.rhs(s, space.mesh)) is not None:
+            f += rhs
+    return a, f

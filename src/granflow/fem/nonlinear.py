@@ -1,76 +1,277 @@
-"""The fixed-point (Picard) iteration (3.2) and its report."""
+"""Nonlinear solves of one implicit-Euler step: the paper's fixed-point iteration (3.2) and
+a damped Newton method on the same residual, with a fall-back to Picard iterations.
+
+Both are built from the same terms (``fem/forms.py``): Picard from their matrix and
+right-hand side frozen at the iterate, Newton from the residual whose coefficients are the
+unknowns, linearised symbolically. Convergence is measured on the velocity in L2, relative to
+max(||u||, floor |Omega|^1/2).
+"""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import Enum
 
 import ngsolve as ngs
 
 from granflow.fem.linalg import ReusableLU
 
+NEWTON_MIN_DAMPING = 1.0 / 64   # below this damping factor Newton has stalled
+PICARD_FALLBACK_ITERATIONS = 4  # fixed-point iterations run when Newton stalls
+
+
+class Failure(Enum):
+    """Why a nonlinear solve did not deliver a solution."""
+
+    NOT_CONVERGED = "the nonlinear iteration did not converge"
+    NON_FINITE = "the nonlinear iteration produced non-finite values"
+
 
 @dataclass(frozen=True)
 class IterationReport:
-    """Outcome of one nonlinear solve: converged or not, how many linear solves, last change."""
+    """Outcome of one nonlinear solve.
+
+    ``iterations`` counts nonlinear iterations (one linearisation and factorisation each);
+    ``linear_solves`` counts every solve with a factorised matrix, including the
+    back-substitutions of Newton's damping test.
+    """
 
     converged: bool
     iterations: int
     relative_change: float
     finite: bool = True
+    linear_solves: int = -1
+    newton_iterations: int = 0
+    picard_iterations: int = 0
+    fallbacks: int = 0
+
+    def __post_init__(self) -> None:
+        if self.linear_solves < 0:
+            object.__setattr__(self, "linear_solves", self.iterations)
+
+    @property
+    def failure(self) -> Failure | None:
+        if not self.finite:
+            return Failure.NON_FINITE
+        return None if self.converged else Failure.NOT_CONVERGED
 
 
-class PicardIteration:
-    """Iterate (3.2) until ||u^{k+1} - u^k||_L2 / ||u^k||_L2 < tol (paper section 3.1).
+class FixedPointSystem:
+    """The matrix A(x^k) and right-hand side f of (3.2), with a reusable LU of A."""
 
-    ``iterate`` holds (u^k, p^k) and is overwritten with each new iterate; the forms
-    read it, so each pass only reassembles ``a`` and refactorises numerically.
-    """
+    def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray) -> None:
+        self.a, self.f = a, f
+        self.lu = ReusableLU(a, freedofs)
 
-    def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, iterate: ngs.GridFunction,
-                 freedofs: ngs.BitArray) -> None:
-        self.a, self.f, self.iterate = a, f, iterate
-        space = iterate.space
+    def prepare(self) -> None:
+        """Assemble what stays fixed during one step's iterations."""
+        self.f.Assemble()
+
+    def iterate(self, out: ngs.BaseVector) -> None:
+        """x^{k+1} = A(x^k)^-1 f; A reads x^k from the iterate it was built on."""
+        self.a.Assemble()
+        self.lu.update()
+        self.lu.solve(self.f.vec, out)
+
+    def reset(self) -> None:
+        self.lu.reset()
+
+
+class ResidualSystem:
+    """A residual form R(x), its linearisation at x and the LU of that linearisation."""
+
+    def __init__(self, form: ngs.BilinearForm, freedofs: ngs.BitArray) -> None:
+        self.form = form
+        self.lu = ReusableLU(form, freedofs)
+
+    def linearise(self, x: ngs.BaseVector) -> None:
+        self.form.AssembleLinearization(x)
+        self.lu.update()
+
+    def residual(self, x: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        self.form.Apply(x, out)
+
+    def solve(self, rhs: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        self.lu.solve(rhs, out)
+
+    def reset(self) -> None:
+        self.lu.reset()
+
+
+HYBRID_PICARD_ITERATIONS = 3  # fixed-point iterations before the hybrid judges their pace
+HYBRID_PATIENCE = 4           # more predicted fixed-point iterations than this: Newton
+
+
+def _slow(change: float, previous: float, tol: float) -> bool:
+    """Whether the fixed-point iteration, contracting at change/previous, needs more than
+    HYBRID_PATIENCE further iterations to reach tol."""
+    rate = change / previous if previous > 0 and math.isfinite(previous) else 1.0
+    if rate >= 1.0:
+        return True
+    return math.log(tol / change) / math.log(rate) > HYBRID_PATIENCE
+
+
+class _Counter:
+    def __init__(self) -> None:
+        self.newton = self.picard = self.solves = self.fallbacks = 0
+
+    def report(self, converged: bool, change: float, finite: bool = True) -> IterationReport:
+        return IterationReport(converged, self.newton + self.picard, change, finite,
+                               self.solves, self.newton, self.picard, self.fallbacks)
+
+
+class NonlinearSolver:
+    """Picard (3.2) and damped Newton on ``state`` (the iterate, overwritten in place)."""
+
+    def __init__(self, picard: FixedPointSystem, newton: ResidualSystem,
+                 state: ngs.GridFunction) -> None:
+        self.picard_system, self.newton_system, self.state = picard, newton, state
+        space = state.space
         (u, _), (v, _) = space.TnT()
         self._mass = ngs.BilinearForm(space)
         self._mass += u * v * ngs.dx
-        self._lu = ReusableLU(a, freedofs)
-        self._new = iterate.vec.CreateVector()
-        self._diff = iterate.vec.CreateVector()
-        self._work = iterate.vec.CreateVector()
+        self.scratch = ngs.GridFunction(space)   # for callers' temporary fields
+        vec = state.vec
+        self._r, self._delta, self._bar = vec.CreateVector(), vec.CreateVector(), vec.CreateVector()
+        self._trial, self._work = vec.CreateVector(), vec.CreateVector()
 
-    def reset_factorisation(self) -> None:
-        """Forget the symbolic LU (the sparsity pattern changed)."""
-        self._lu.reset()
+    def reset_factorisations(self) -> None:
+        """Forget the symbolic LUs (the sparsity pattern changed)."""
+        self.picard_system.reset()
+        self.newton_system.reset()
+
+    def velocity_l2(self, vec: ngs.BaseVector) -> float:
+        """L2 norm of the velocity part of ``vec`` on the mesh of the last solve."""
+        return self._l2(vec)
 
     def _l2(self, vec: ngs.BaseVector) -> float:
+        """L2 norm of the velocity part of ``vec``."""
         self._work.data = self._mass.mat * vec
         return math.sqrt(max(ngs.InnerProduct(vec, self._work), 0.0))
 
-    def solve(self, tol: float, max_iterations: int,
-              velocity_floor: float = 0.0) -> IterationReport:
-        """Run the iteration from the current ``iterate``; the mesh must already be moved.
+    def _reference(self, velocity_floor: float) -> float:
+        if velocity_floor <= 0:
+            return 0.0
+        return velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), self.state.space.mesh))
 
-        The change is measured relative to max(||u^k||, velocity_floor |Omega|^1/2): with a
-        zero floor this is the paper's criterion; a floor (m/s) stops the iteration from
-        chasing relative changes of a mass that is at rest, where ||u^k|| -> 0.
-        """
-        self.f.Assemble()
+    @staticmethod
+    def _relative(change: float, norm: float) -> float:
+        if not math.isfinite(change):
+            return math.nan
+        return change / norm if norm > 0 else (0.0 if change == 0 else math.inf)
+
+    # --- Picard (3.2) ----------------------------------------------------------------
+    def solve_picard(self, tol: float, max_iterations: int,
+                     velocity_floor: float = 0.0) -> IterationReport:
+        """Iterate (3.2) until ||u^{k+1} - u^k|| / max(||u^k||, floor) < tol (section 3.1)."""
         self._mass.Assemble()
-        floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), self.iterate.space.mesh)) \
-            if velocity_floor > 0 else 0.0
+        self.picard_system.prepare()
+        count = _Counter()
+        change = self._picard(tol, max_iterations, self._reference(velocity_floor), count)
+        return count.report(change < tol, change, not math.isnan(change))
+
+    def _picard(self, tol: float, iterations: int, floor: float, count: _Counter,
+                give_up_after: int = 0) -> float:
+        """Up to ``iterations`` fixed-point iterations; the last relative change.
+
+        With ``give_up_after`` > 0, stop early once that many iterations are done and the
+        observed contraction predicts more than HYBRID_PATIENCE further ones.
+        """
+        x, system = self.state.vec, self.picard_system
+        change = previous = math.inf
+        for k in range(1, iterations + 1):
+            norm_old = max(self._l2(x), floor)
+            system.iterate(self._trial)
+            count.picard += 1
+            count.solves += 1
+            self._delta.data = self._trial - x
+            x.data = self._trial
+            previous, change = change, self._relative(self._l2(self._delta), norm_old)
+            if math.isnan(change) or change < tol:
+                break
+            if give_up_after and k >= give_up_after and _slow(change, previous, tol):
+                break
+        return change
+
+    # --- hybrid ---------------------------------------------------------------------------
+    def solve_hybrid(self, tol: float, max_iterations: int,
+                     velocity_floor: float = 0.0) -> IterationReport:
+        """Fixed-point iterations (3.2) while they contract fast, then Newton.
+
+        Near a good initial guess (small steps, slow flow) Picard converges in two or three
+        cheap iterations; where it contracts slowly (small eps, plug flow) or cycles (the
+        pressure-dependent friction at a thin front), Newton takes over from its iterate.
+        """
+        self._mass.Assemble()
+        self.picard_system.prepare()
+        floor = self._reference(velocity_floor)
+        count = _Counter()
+        change = self._picard(tol, min(max_iterations, 4 * HYBRID_PICARD_ITERATIONS), floor,
+                              count, give_up_after=HYBRID_PICARD_ITERATIONS)
+        if math.isnan(change):
+            return count.report(False, math.nan, finite=False)
+        if change < tol:
+            return count.report(True, change)
+        return self._newton(tol, max_iterations, floor, count)
+
+    # --- Newton --------------------------------------------------------------------------
+    def solve_newton(self, tol: float, max_iterations: int,
+                     velocity_floor: float = 0.0) -> IterationReport:
+        """Damped Newton with Deuflhard's natural monotonicity test.
+
+        Each iteration factorises the consistent tangent at x, takes the Newton correction
+        delta and the largest damping lambda in {1, 1/2, ...} whose simplified correction
+        J(x)^-1 R(x - lambda delta) is smaller than (1 - lambda/4) ||delta|| (an
+        affine-invariant test, blind to the 1e12 penalty scaling of the residual).
+        Converged when that simplified correction, which estimates the remaining error, is
+        below tol relative to max(||u||, floor) after a full step. A damping below
+        NEWTON_MIN_DAMPING counts as a stall: a few Picard iterations follow, then Newton
+        resumes.
+        """
+        self._mass.Assemble()
+        return self._newton(tol, max_iterations, self._reference(velocity_floor), _Counter())
+
+    def _newton(self, tol: float, max_iterations: int, floor: float,
+                count: _Counter) -> IterationReport:
+        x, system = self.state.vec, self.newton_system
         change = math.inf
-        for k in range(1, max_iterations + 1):
-            self.a.Assemble()
-            self._lu.update()
-            self._lu.solve(self.f.vec, self._new)
-            self._diff.data = self._new - self.iterate.vec
-            norm_old = max(self._l2(self.iterate.vec), floor)
-            norm_diff = self._l2(self._diff)
-            self.iterate.vec.data = self._new
-            if not math.isfinite(norm_diff):
-                return IterationReport(False, k, math.nan, finite=False)
-            change = norm_diff / norm_old if norm_old > 0 else (0.0 if norm_diff == 0 else math.inf)
-            if change < tol:
-                return IterationReport(True, k, change)
-        return IterationReport(False, max_iterations, change)
+        while count.newton + count.picard < max_iterations:
+            system.linearise(x)
+            system.residual(x, self._r)
+            system.solve(self._r, self._delta)
+            count.newton += 1
+            count.solves += 1
+            norm_delta = self._l2(self._delta)
+            if not math.isfinite(norm_delta):
+                return count.report(False, math.nan, finite=False)
+            damping = 1.0
+            while True:
+                self._trial.data = x - damping * self._delta
+                system.residual(self._trial, self._r)
+                system.solve(self._r, self._bar)
+                count.solves += 1
+                norm_bar = self._l2(self._bar)
+                if math.isfinite(norm_bar) and norm_bar <= (1.0 - damping / 4) * norm_delta:
+                    break
+                damping *= 0.5
+                if damping < NEWTON_MIN_DAMPING:
+                    break
+            if damping < NEWTON_MIN_DAMPING:       # stalled: fixed-point iterations, then on
+                count.fallbacks += 1
+                self.picard_system.prepare()
+                left = max_iterations - count.newton - count.picard
+                change = self._picard(tol, min(PICARD_FALLBACK_ITERATIONS, left), floor, count)
+                if math.isnan(change):
+                    return count.report(False, math.nan, finite=False)
+                if change < tol:
+                    return count.report(True, change)
+                continue
+            x.data = self._trial
+            norm = max(self._l2(x), floor)
+            change = self._relative(norm_bar, norm)
+
+            if damping == 1.0 and change < tol:
+                x.data -= self._bar                 # the simplified Newton step, for free
+                return count.report(True, change)
+        return count.report(False, change)

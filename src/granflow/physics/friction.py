@@ -39,5 +39,10 @@ class CoulombFriction:
         ``normal_stress`` is the compressive normal load p - sigma'_N; the fixed-point
         iteration (3.2a) evaluates both arguments at the previous iterate.
         """
+        return self.drag_coefficient_sq(slip_speed**2, normal_stress, ops)
+
+    def drag_coefficient_sq(self, slip_sq: Any, normal_stress: Any,
+                            ops: Ops = NUMPY_OPS) -> Any:
+        """``drag_coefficient`` from |u_T|^2, smooth at u_T = 0 (for Newton's tangent)."""
         return self.mu * ops.positive_part(normal_stress) / ops.sqrt(
-            slip_speed**2 + self.eps_friction**2)
+            slip_sq + self.eps_friction**2)

@@ -49,8 +49,14 @@ class DruckerPrager:
         Finite at Du = 0 (it equals 2 eta + kappa / eps there); this is the coefficient the
         fixed-point iteration (3.2a) freezes at the previous iterate.
         """
+        return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
+
+    def effective_viscosity_sq(self, strain_rate_sq: Any, pressure: Any,
+                               ops: Ops = NUMPY_OPS) -> Any:
+        """``m`` of (2.13) from |Du|^2: smooth at Du = 0, so Newton can differentiate it
+        (sqrt(|Du|^2)^2 has an infinite derivative there)."""
         kappa = self.yield_stress(pressure, ops)
-        return 2.0 * self.viscosity + kappa / ops.sqrt(strain_rate_norm**2 + self.eps**2)
+        return 2.0 * self.viscosity + kappa / ops.sqrt(strain_rate_sq + self.eps**2)
 
     def deviatoric_stress(self, strain_rate: Any, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
         """sigma'_eps (2.13) for a strain-rate tensor given as a numpy array (..., 2, 2)."""

@@ -11,6 +11,7 @@ import numpy as np
 from granflow.ale.column_mover import ColumnMover
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import remesh, shape_quality
+from granflow.ale.transfer import transfer_state
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
 from granflow.diagnostics.interface import lower_envelope
@@ -22,6 +23,7 @@ from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
 from granflow.physics import CoulombFriction, DruckerPrager, gravity_vector
+from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
 
@@ -54,13 +56,17 @@ class ColumnCollapse:
         return floor > 0 and float(shape_quality(self.mesh).min()) < floor
 
     def remesh(self) -> None:
-        """New mesh of the same boundary; u^n and p^n interpolated onto it."""
+        """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it
+        (``ale/transfer.py``: interpolation inside the old domain, then a divergence-free
+        projection)."""
         old_solver, old_mover = self.solver, self.mover
-        self.mesh.ngmesh.Update()  # point search on the moved mesh, for the interpolation
         mesh = remesh(self.mesh, self.config.mesh.size)
         solver, mover = _flow_and_motion(self.config, mesh)
-        solver.previous.components[0].Set(old_solver.previous.components[0])
-        solver.previous.components[1].Set(old_solver.previous.components[1])
+        walls, penalty = [BED, WALL], self.config.boundary.penalty
+        transfer_state(old_solver.previous, solver.previous, walls, penalty)
+        if old_solver.dt_previous > 0:
+            transfer_state(old_solver.before_previous, solver.before_previous, walls, penalty)
+            solver.dt_previous = old_solver.dt_previous
         solver.solution.vec.data = solver.previous.vec
         mover.inherit(old_mover)
         self.mesh, self.solver, self.mover = mesh, solver, mover
@@ -85,6 +91,11 @@ class ColumnCollapse:
     def flowing(self) -> np.ndarray:
         flags, _ = flowing_cells(self.mesh, self.solver.velocity)
         return flags
+
+    def flowing_fraction(self) -> float:
+        """Area fraction of the cells faster than the flowing threshold (1 mm/s)."""
+        flags, areas = flowing_cells(self.mesh, self.solver.velocity)
+        return float(areas[flags].sum() / areas.sum())
 
     def surface(self) -> np.ndarray:
         return self.mover.chain.surface_polyline()
@@ -140,7 +151,9 @@ class ColumnCollapse:
             "runout_m": front_diag.front_position(xy),
             "runout_1mm_m": front_diag.thick_front(surface),
             "surface_edge_spread": front_diag.surface_edge_spread(surface),
-            "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"])),
+            "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"],
+                                                         self.config.time.rest_fraction)),
+            "all_cells_static_s": front_diag.stop_time(h["t"], h["flowing_fraction"]),
             "runout_at_stop_m": float(np.interp(stop, h["t"], h["front_x"])) if stop else None,
             "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),
             "front_settle_time_s": front_diag.settle_time(h["t"], h["front_x"]),
@@ -189,6 +202,10 @@ def build_column(config: Config) -> ColumnCollapse:
     problem = ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
                              mover=mover, simulation=simulation)
     simulation.remesher = problem
+    if config.time.stop_at_rest:
+        simulation.stop_criteria = [RestCriterion(problem.flowing_fraction,
+                                                  config.time.rest_fraction,
+                                                  config.time.rest_duration)]
     return problem
 
 
@@ -201,7 +218,7 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
              FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
-                        walls=walls, penalty=bnd.penalty)
+                        walls=walls, penalty=bnd.penalty, linearization=num.linearization)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     mover = ColumnMover(mesh, velocity_cls(mesh, solver.velocity, solver.mesh_velocity,

@@ -88,7 +88,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
                              eps=config.numerics.eps)
     force = gravity_vector(mat.gravity, geo.slope_deg)
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
-                        periodic=True, dirichlet=BED)
+                        periodic=True, dirichlet=BED,
+                        linearization=config.numerics.linearization)
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),

@@ -14,16 +14,25 @@ Action = Callable[["Simulation"], None]
 
 
 class AtTimes:
-    """Run ``action`` once when the loop reaches each of ``times`` (the steps hit them)."""
+    """Run ``action(sim, time)`` once when the loop reaches each of ``times`` (the steps
+    hit them); ``flush`` runs the ones still pending from the final state."""
 
-    def __init__(self, times: Sequence[float], action: Action) -> None:
+    def __init__(self, times: Sequence[float],
+                 action: Callable[[Simulation, float], None]) -> None:
         self.pending = sorted(times)
         self.action = action
 
     def __call__(self, sim: Simulation) -> None:
         while self.pending and sim.t >= self.pending[0] - 1e-9 * max(1.0, self.pending[0]):
-            self.pending.pop(0)
-            self.action(sim)
+            self.action(sim, self.pending.pop(0))
+
+    def flush(self, sim: Simulation) -> list[float]:
+        """Write the pending times from the current state; return them."""
+        done = list(self.pending)
+        for t in done:
+            self.action(sim, t)
+        self.pending = []
+        return done
 
 
 class EveryNSteps:

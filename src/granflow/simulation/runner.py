@@ -24,7 +24,8 @@ from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, Tim
 from granflow.simulation.simulation import RunResult, Simulation
 
 DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
-                      "kinetic_energy", "max_speed", "flowing_fraction"]
+                      "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
+                      "local_error"]
 ANIMATION_INTERVAL_S = 0.02
 
 
@@ -79,7 +80,10 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
     bar = ProgressBar(config.time.t_end, enabled=progress)
 
     def record(s: Simulation) -> None:
-        row = {"t": s.t, "dt": s.dt, "iterations": s.last_report.iterations}
+        report, estimate = s.last_report, s.last_estimate
+        row = {"t": s.t, "dt": s.dt, "iterations": report.iterations,
+               "linear_solves": report.linear_solves,
+               "local_error": estimate.error if estimate is not None else math.nan}
         speed = cell_means(problem.mesh, ngs.Norm(problem.solver.velocity))  # once per step
         row |= problem.shape_measures(speed[0])
         row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
@@ -87,11 +91,12 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
         log.write([row.get(c, math.nan) for c in DIAGNOSTIC_COLUMNS])
         problem.record(row)
 
-    def outputs(s: Simulation) -> None:
-        problem.write_profiles(run_dir, s.t)
-        write_fields(series, problem, s.t)
+    def outputs(s: Simulation, t: float) -> None:
+        problem.write_profiles(run_dir, t)
+        write_fields(series, problem, t)
 
-    observers = [record, bar, AtTimes(config.time.output_times, outputs),
+    at_times = AtTimes(config.time.output_times, outputs)
+    observers = [record, bar, at_times,
                  EveryNSteps(config.output.vtk_every, lambda s: write_fields(series, problem, s.t))]
     snapshot = getattr(problem, "snapshot", None)
     if snapshot is not None:
@@ -104,11 +109,12 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
         result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
                            f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
                            sim.nonlinear_iterations, sim.linear_solves,
-                           sim.unconverged_steps, math.nan)
+                           sim.unconverged_steps, math.nan, dict(sim.rejections))
         run_dir.write_text("traceback.txt", traceback.format_exc())
     finally:
         bar.close()
         log.close()
+    at_rest = at_times.flush(sim) if result.status == "stopped" else []
     solver = problem.solver
     volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
     summary: dict[str, Any] = {
@@ -118,6 +124,8 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
         "t_final": result.t_final,
         "steps": result.steps,
         "rejected_steps": result.rejected_steps,
+        "rejections": result.rejections,
+        "outputs_at_rest": at_rest,   # output times written from the final (rest) state
         "unconverged_steps": result.unconverged_steps,
         "nonlinear_iterations": result.nonlinear_iterations,
         "linear_solves": result.linear_solves,

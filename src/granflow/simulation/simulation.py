@@ -2,6 +2,10 @@
 
 It owns the stop criteria and says why it stopped; observers read the state after each
 accepted step and never change it. It knows no file format.
+
+A step is accepted only when the move left a valid mesh, the nonlinear solve converged
+and the step policy accepts its local error; otherwise the move is undone and the step
+retried (after a remesh, or with a smaller dt).
 """
 
 from __future__ import annotations
@@ -9,16 +13,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import Protocol
 
+from granflow.ale.mesh_motion import MoveFailure
 from granflow.fem.flow import FlowSolver
-from granflow.fem.nonlinear import IterationReport
-
-
-class StepPolicy(Protocol):
-    def propose(self, t: float) -> tuple[float, float]: ...
-    def accepted(self, dt: float) -> None: ...
-    def rejected(self, dt: float) -> None: ...
+from granflow.fem.nonlinear import Failure, IterationReport
+from granflow.simulation.timestep import LocalError, StepPolicy, StepTooSmall
 
 
 class MeshMotion(Protocol):
@@ -26,7 +27,7 @@ class MeshMotion(Protocol):
 
     def prepare(self, dt: float) -> float: ...
     def move(self, dt: float) -> None: ...
-    def check(self) -> str | None: ...
+    def check(self) -> MoveFailure | None: ...
     def undo(self) -> None: ...
     def after_accept(self) -> None: ...
 
@@ -38,7 +39,16 @@ class Remesher(Protocol):
     def remesh(self) -> None: ...
 
 
-REMESHABLE = ("inverted", "self-intersects")  # move failures a new mesh can cure
+class Rejection(Enum):
+    """Why an attempted step was not accepted."""
+
+    MOVE = "the mesh move was invalid"
+    NOT_CONVERGED = Failure.NOT_CONVERGED.value
+    NON_FINITE = Failure.NON_FINITE.value
+    ERROR = "the local time error exceeded its tolerance"
+    EXCEPTION = "the solver raised an error"
+
+
 Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
 
@@ -54,8 +64,19 @@ class RunResult:
     rejected_steps: int
     nonlinear_iterations: int
     linear_solves: int
-    unconverged_steps: int
+    unconverged_steps: int           # accepted without convergence: always 0 since issue 13
     wall_time_s: float
+    rejections: dict[str, int] = field(default_factory=dict)
+
+
+@dataclass
+class _Attempt:
+    dt: float
+    report: IterationReport | None = None
+    rejection: Rejection | None = None
+    move_failure: MoveFailure | None = None
+    estimate: LocalError | None = None
+    detail: str = ""
 
 
 @dataclass
@@ -75,10 +96,13 @@ class Simulation:
     dt: float = 0.0
     attempted_dt: float = 0.0
     last_report: IterationReport | None = None
+    last_estimate: LocalError | None = None
     rejected_steps: int = 0
     nonlinear_iterations: int = 0
+    momentum_solves: int = 0
     unconverged_steps: int = 0
     remeshed_this_step: bool = False
+    rejections: dict[str, int] = field(default_factory=dict)
     _rejections_in_row: int = field(default=0, repr=False)
     _remesh_error: str = field(default="", repr=False)
 
@@ -88,30 +112,78 @@ class Simulation:
 
     @property
     def linear_solves(self) -> int:
-        """Momentum solves (one per fixed-point iteration) plus mesh-velocity solves."""
-        return self.nonlinear_iterations + getattr(self.mesh_motion, "velocity_solves", 0)
+        """Momentum solves (every solve with a factorised matrix) plus mesh-velocity solves."""
+        return self.momentum_solves + getattr(self.mesh_motion, "velocity_solves", 0)
 
-    def _attempt(self, dt: float, tol: float) -> tuple[IterationReport | None, str | None]:
+    def _attempt(self, dt: float, tol: float) -> _Attempt:
         """One try at a step of size dt (shortened by the mesh motion if it must)."""
         motion = self.mesh_motion
         if motion is not None:
             dt = motion.prepare(dt)
+        attempt = _Attempt(dt)
         self.attempted_dt = dt
         if motion is not None:
             motion.move(dt)
-            problem = motion.check()
-            if problem is not None:
-                motion.undo()
-                return None, problem
-        self.dt = dt
+            attempt.move_failure = motion.check()
+            if attempt.move_failure is not None:
+                attempt.rejection = Rejection.MOVE
+                attempt.detail = attempt.move_failure.value
+                return attempt
         report = self.solver.solve_step(dt, tol, self.max_iterations, self.velocity_floor)
+        attempt.report = report
         self.nonlinear_iterations += report.iterations
-        if not report.finite:
-            if motion is not None:
-                motion.undo()
-            self.solver.reject()
-            return report, "the nonlinear iteration produced non-finite values"
-        return report, None
+        self.momentum_solves += report.linear_solves
+        if report.failure is Failure.NON_FINITE:
+            attempt.rejection = Rejection.NON_FINITE
+        elif report.failure is Failure.NOT_CONVERGED:
+            attempt.rejection = Rejection.NOT_CONVERGED
+            attempt.detail = (f"{report.iterations} iterations left a relative change of "
+                              f"{report.relative_change:.2g}")
+        else:
+            raw = self.solver.local_error(dt)
+            attempt.estimate = LocalError(*raw) if raw is not None else None
+            if not self.steps_policy.judge(attempt.estimate):
+                attempt.rejection = Rejection.ERROR
+        return attempt
+
+    def _undo(self) -> None:
+        if self.mesh_motion is not None:
+            self.mesh_motion.undo()
+        self.solver.reject()
+
+    def _reject(self, attempt: _Attempt) -> str | None:
+        """Count, remesh or shrink dt; return a failure message if the run cannot go on."""
+        assert attempt.rejection is not None
+        self.rejected_steps += 1
+        key = attempt.rejection.name.lower()
+        self.rejections[key] = self.rejections.get(key, 0) + 1
+        failure = attempt.move_failure
+        if (failure is not None and failure.remeshable and self.remesher is not None
+                and not self.remeshed_this_step):
+            self.remeshed_this_step = True
+            try:
+                self.remesher.remesh()  # a tangling move: new mesh, same dt
+                return None
+            except RuntimeError as exc:  # then fall back to smaller steps
+                self._remesh_error = f"; remeshing failed: {exc}"
+        self._rejections_in_row += 1
+        try:
+            if self._rejections_in_row > self.max_consecutive_rejections:
+                raise StepTooSmall(f"{self._rejections_in_row} consecutive rejected steps")
+            estimate = attempt.estimate if attempt.rejection is Rejection.ERROR else None
+            self.steps_policy.rejected(attempt.dt, estimate)
+        except StepTooSmall as exc:
+            reason = attempt.rejection.value + (f" ({attempt.detail})" if attempt.detail else "")
+            return (f"step {self.step + 1} at t = {self.t:.6g} s (dt = {attempt.dt:.3g} s) "
+                    f"failed: {reason}{self._remesh_error}; {exc}. {self._advice(attempt)}")
+        return None
+
+    def _advice(self, attempt: _Attempt) -> str:
+        step_key = getattr(self.steps_policy, "step_key", "time.dt_max")
+        if attempt.rejection in (Rejection.NOT_CONVERGED, Rejection.NON_FINITE):
+            return (f"Try a smaller {step_key}, numerics.linearization = 'hybrid' or 'newton', "
+                    "or a larger numerics.max_iterations")
+        return f"Try a smaller {step_key} or mesh.size"
 
     def run(self) -> RunResult:
         start = time.perf_counter()
@@ -120,51 +192,18 @@ class Simulation:
             dt, tol = self.steps_policy.propose(self.t)
             self.attempted_dt = dt
             try:
-                report, problem = self._attempt(dt, tol)
+                attempt = self._attempt(dt, tol)
             except Exception as exc:  # a solver failure is a result, not a crash
-                report, problem = None, f"{type(exc).__name__}: {exc}"
-                if self.mesh_motion is not None:
-                    self.mesh_motion.undo()
-                self.solver.reject()
-            if problem is not None:
-                self.rejected_steps += 1
-                self._rejections_in_row += 1
-                if (self.remesher is not None and not self.remeshed_this_step
-                        and any(word in problem for word in REMESHABLE)):
-                    self.remeshed_this_step = True
-                    try:
-                        self.remesher.remesh()  # a tangling move: new mesh, same dt
-                        continue
-                    except RuntimeError as exc:  # then fall back to smaller steps
-                        self._remesh_error = f"; remeshing failed: {exc}"
-                try:
-                    if self._rejections_in_row > self.max_consecutive_rejections:
-                        raise RuntimeError("too many consecutive rejected steps")
-                    self.steps_policy.rejected(self.attempted_dt)
-                    continue
-                except RuntimeError as exc:
-                    status = "failed"
-                    message = (f"step {self.step + 1} at t = {self.t:.6g} s (dt = {dt:.3g} s) "
-                               f"failed: {problem}{self._remesh_error}; {exc}. Try a smaller "
-                               "time.dt_max or mesh.size, or a larger numerics.max_iterations")
+                attempt = _Attempt(self.attempted_dt, rejection=Rejection.EXCEPTION,
+                                   detail=f"{type(exc).__name__}: {exc}")
+            if attempt.rejection is not None:
+                self._undo()
+                failure = self._reject(attempt)
+                if failure is not None:
+                    status, message = "failed", failure
                     break
-            assert report is not None
-            self._rejections_in_row = 0
-            self.remeshed_this_step = False
-            self._remesh_error = ""
-            if not report.converged:
-                self.unconverged_steps += 1
-            self.solver.accept()
-            if self.mesh_motion is not None:
-                self.mesh_motion.after_accept()
-            self.steps_policy.accepted(self.dt)
-            self.t += self.dt
-            self.step += 1
-            self.last_report = report
-            if self.remesher is not None and self.remesher.needs_remesh():
-                self.remesher.remesh()
-            for observer in self.observers:
-                observer(self)
+                continue
+            self._accept(attempt)
             reason = next((r for c in self.stop_criteria if (r := c(self)) is not None), None)
             if reason is not None:
                 status, message = "stopped", reason
@@ -174,5 +213,21 @@ class Simulation:
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
             linear_solves=self.linear_solves, unconverged_steps=self.unconverged_steps,
-            wall_time_s=time.perf_counter() - start)
+            wall_time_s=time.perf_counter() - start, rejections=dict(self.rejections))
 
+    def _accept(self, attempt: _Attempt) -> None:
+        self._rejections_in_row = 0
+        self.remeshed_this_step = False
+        self._remesh_error = ""
+        self.dt = attempt.dt
+        self.solver.accept(self.dt)
+        if self.mesh_motion is not None:
+            self.mesh_motion.after_accept()
+        self.steps_policy.accepted(self.dt, attempt.estimate)
+        self.t += self.dt
+        self.step += 1
+        self.last_report, self.last_estimate = attempt.report, attempt.estimate
+        if self.remesher is not None and self.remesher.needs_remesh():
+            self.remesher.remesh()
+        for observer in self.observers:
+            observer(self)

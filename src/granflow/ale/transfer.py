@@ -1,0 +1,119 @@
+"""Field transfer across a remesh: nodal interpolation that stays inside the old domain,
+then a discrete divergence-free projection of the velocity.
+
+Why not ``GridFunction.Set`` from the old field: a remesh straightens nearly flat surface
+stretches, so parts of the new domain lie (slightly) outside the old one, where NGSolve
+evaluates the old field to garbage without an error; and an interpolated velocity is not
+discretely divergence-free on the new mesh, so the first implicit step after a remesh
+would project it with a pressure spike of order rho |div u| h^2 / dt. With the paper's
+dt = 1e-4 s that spike enters the yield stress kappa = sqrt(2) mu_s [p]_+ (2.4) and the
+friction load, and perturbs the flow well beyond the interpolation error itself.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import ngsolve as ngs
+import numpy as np
+
+INWARD_NUDGE = 1e-9  # relative to the segment length: how far inside a clamped point sits
+
+
+def boundary_segments(mesh: ngs.Mesh) -> np.ndarray:
+    """(ns, 2) vertex indices of the boundary segments, counter-clockwise."""
+    return mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
+
+
+def clamp_inside(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
+    """Each point moved onto the nearest boundary point of ``mesh`` (just inside) when it
+    lies outside the mesh; points inside are returned unchanged."""
+    xy = mesh.ngmesh.Coordinates()
+    seg = boundary_segments(mesh)
+    a, b = xy[seg[:, 0]], xy[seg[:, 1]]
+    d = b - a
+    length2 = np.sum(d * d, axis=1)
+    out = points.copy()
+    for i, p in enumerate(points):
+        if mesh(float(p[0]), float(p[1])).nr >= 0:
+            continue
+        s = np.clip(np.sum((p - a) * d, axis=1) / length2, 0.0, 1.0)
+        nearest = a + s[:, None] * d
+        k = int(np.argmin(np.sum((nearest - p) ** 2, axis=1)))
+        inward = np.array([-d[k, 1], d[k, 0]])      # left of a counter-clockwise edge
+        out[i] = nearest[k] + INWARD_NUDGE * inward
+    return out
+
+
+def sample(field: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
+    """Values of ``field`` (living on ``mesh``) at ``points`` clamped into the mesh."""
+    mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
+    inside = clamp_inside(mesh, points)
+    values = [field(mesh(float(x), float(y))) for x, y in inside]
+    return np.atleast_2d(np.asarray(values, dtype=float).reshape(len(points), -1))
+
+
+def _edge_midpoints(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Midpoints of the mesh edges and the P2 edge dof of each in a scalar H1 space."""
+    xy = mesh.ngmesh.Coordinates()
+    ends = np.array([[v.nr for v in e.vertices] for e in mesh.edges], dtype=np.int64)
+    return 0.5 * (xy[ends[:, 0]] + xy[ends[:, 1]]), ends
+
+
+def interpolate_p2(target: ngs.GridFunction,
+                   values_at: Callable[[np.ndarray], np.ndarray]) -> None:
+    """Set a P2 vector field from point values at the vertices and the edge midpoints.
+
+    ``values_at(points) -> (n, 2)``. NGSolve's second-order H1 basis is hierarchical: the
+    edge coefficient is (midpoint value - mean of the end values) / bubble(midpoint).
+    """
+    mesh = target.space.mesh
+    xy = mesh.ngmesh.Coordinates()
+    mid, ends = _edge_midpoints(mesh)
+    at_vertices, at_mid = values_at(xy), values_at(mid)
+    scalar = ngs.H1(mesh, order=2)
+    edge_dofs = np.array([scalar.GetDofNrs(ngs.NodeId(ngs.EDGE, e))[0]
+                          for e in range(len(ends))])
+    bubble = ngs.GridFunction(scalar)
+    bubble.vec.FV().NumPy()[edge_dofs] = 1.0
+    bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in mid])
+    for c, component in enumerate(target.components):
+        vec = component.vec.FV().NumPy()
+        vec[:] = 0.0
+        vec[: mesh.nv] = at_vertices[:, c]
+        linear = 0.5 * (at_vertices[ends[:, 0], c] + at_vertices[ends[:, 1], c])
+        vec[edge_dofs] = (at_mid[:, c] - linear) / bubble_mid
+
+
+def project_divergence_free(state: ngs.GridFunction, walls: list[str], penalty: float) -> None:
+    """Replace the velocity of ``state`` (Taylor-Hood) by its L2-nearest discretely
+    divergence-free field with u.N = 0 on ``walls`` (penalty), in place.
+
+    Solves (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0.
+    """
+    space = state.space
+    mesh = space.mesh
+    (u, lam), (v, q) = space.TnT()
+    n = ngs.specialcf.normal(mesh.dim)
+    a = ngs.BilinearForm(space)
+    a += (u * v - lam * ngs.div(v) - q * ngs.div(u)) * ngs.dx
+    if walls:
+        a += penalty * (u * n) * (v * n) * ngs.ds(definedon=mesh.Boundaries("|".join(walls)))
+    f = ngs.LinearForm(space)
+    f += state.components[0] * v * ngs.dx
+    a.Assemble()
+    f.Assemble()
+    projected = ngs.GridFunction(space)
+    projected.vec.data = a.mat.Inverse(space.FreeDofs(), inverse="umfpack") * f.vec
+    state.components[0].vec.data = projected.components[0].vec
+
+
+def transfer_state(old: ngs.GridFunction, new: ngs.GridFunction, walls: list[str],
+                   penalty: float) -> None:
+    """(u, p) from a Taylor-Hood field on the old mesh to one on the new mesh."""
+    old_mesh = old.space.mesh
+    u_old, p_old = old.components
+    interpolate_p2(new.components[0], lambda pts: sample(u_old, old_mesh, pts))
+    xy = new.space.mesh.ngmesh.Coordinates()
+    new.components[1].vec.FV().NumPy()[: len(xy)] = sample(p_old, old_mesh, xy)[:, 0]
+    project_divergence_free(new, walls, penalty)
