@@ -139,6 +139,7 @@ class Numerics(_Section):
     mesh_penalty: Positive
     velocity_floor: Annotated[float, Field(ge=0)]  # m/s, floor of ||u|| in the (3.2) criterion
     volume_correction: bool  # restore the initial area after each ALE move (column only)
+    ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
 
     @property
     def tol_start(self) -> float:

@@ -17,7 +17,7 @@ from granflow.ale.free_surface import (
     polygon_area,
     segments_intersect,
 )
-from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, MoveFailure, vertex_values
+from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, MoveFailure, VelocityHistory
 from granflow.geometry.mesh import BED, SURFACE, WALL
 
 LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
@@ -27,9 +27,9 @@ class ColumnMover(AleMover):
     """AleMover with the deposition procedure and an optional area-conserving correction."""
 
     def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
-                 material_velocity: ngs.GridFunction, conserve_volume: bool = True) -> None:
-        super().__init__(mesh, velocity_solver)
-        self.material_velocity = material_velocity
+                 source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,
+                 extrapolate: bool = False, conserve_volume: bool = True) -> None:
+        super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
         self.chain = BoundaryChain(mesh)
         self.conserve_volume = conserve_volume
         self.initial_area = polygon_area(mesh.ngmesh.Coordinates(), self.chain.segments)
@@ -45,10 +45,12 @@ class ColumnMover(AleMover):
         self.velocity_solves = other.velocity_solves
 
     def prepare(self, dt: float) -> float:
-        """Compute w^n once and shorten dt so that no boundary node crosses bed or wall."""
-        if self.w_vertices is None:
-            super().prepare(dt)
-            self._pin_contact_points()
+        """w for this step, and dt shortened so that no boundary node crosses bed or wall.
+
+        With an extrapolated w (which depends on dt), w is recomputed for the shortened
+        step and the node found landing is snapped onto the bed by ``move``.
+        """
+        self._prepare_w(dt)
         assert self.w_vertices is not None
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
@@ -58,10 +60,16 @@ class ColumnMover(AleMover):
         if t_min < dt:
             dt = t_min
             self.limited_steps += 1
+            if self.extrapolate:
+                self._prepare_w(dt)
         self.landed = candidates[times <= dt * (1 + LANDING_TOLERANCE)]
         return dt
 
-    def _pin_contact_points(self) -> None:
+    def _prepare_w(self, dt: float) -> None:
+        super().prepare(dt)
+        self._pin_contact_points(dt)
+
+    def _pin_contact_points(self, dt: float) -> None:
         """Where the surface meets the bed or the wall, w = u (pure Lagrangian, section 3.2).
 
         (3.6) gives this at every normal discontinuity; at a thin front the bed and surface
@@ -71,7 +79,7 @@ class ColumnMover(AleMover):
         assert self.w_vertices is not None
         surface = self.chain.vertices(SURFACE)
         corners = np.intersect1d(surface, np.union1d(self._on_bed(), self._on_wall()))
-        self.w_vertices[corners] = vertex_values(self.material_velocity)[corners]
+        self.w_vertices[corners] = self.source_at_vertices(dt)[corners]
 
     def move(self, dt: float) -> None:
         super().move(dt)

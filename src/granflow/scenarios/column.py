@@ -221,8 +221,9 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
-    mover = ColumnMover(mesh, velocity_cls(mesh, solver.velocity, solver.mesh_velocity,
-                                           num.mesh_penalty),
-                        material_velocity=solver.velocity,
+    source = ngs.GridFunction(solver.space.components[0])
+    mover = ColumnMover(mesh, velocity_cls(mesh, source, solver.mesh_velocity, num.mesh_penalty),
+                        source=source, flow=solver, target=solver.mesh_velocity,
+                        extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction)
     return solver, mover

@@ -96,9 +96,12 @@ def build_plug_flow(config: Config) -> PlugFlow:
                      -mat.density * force[1] * (geo.height - z))          # hydrostatic p
     motion = None
     if config.numerics.mesh_velocity == "vertical":
-        w_solver = VerticalMeshVelocity(mesh, solver.velocity, solver.mesh_velocity,
+        source = ngs.GridFunction(solver.space.components[0])
+        w_solver = VerticalMeshVelocity(mesh, source, solver.mesh_velocity,
                                         penalty=config.numerics.mesh_penalty)
-        motion = AleMover(mesh, w_solver)
+        motion = AleMover(mesh, w_solver, source=source, flow=solver,
+                          target=solver.mesh_velocity,
+                          extrapolate=config.numerics.ale_extrapolation)
     simulation = Simulation(solver=solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations, mesh_motion=motion,
