@@ -26,6 +26,9 @@ from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.physics import DruckerPrager
 
 
+SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
+
+
 class FlowSolver:
     """Velocity/pressure at t^n and t^{n+1}, the mesh velocity, and the iteration (3.2).
 
@@ -120,9 +123,20 @@ class FlowSolver:
         return dt / (2 * dt + self.dt_previous) * difference / root_area, speed / root_area
 
     def accept(self, dt: float | None = None) -> None:
-        """(u^{n+1}, p^{n+1}) becomes the state; ``dt`` the step just taken."""
-        self.before_previous.vec.data = self.previous.vec
-        self.dt_previous = dt if dt is not None else 0.0
+        """(u^{n+1}, p^{n+1}) becomes the state; ``dt`` the step just taken.
+
+        The history (u^{n-1}, dt_{n-1}) that extrapolations read spans at least a quarter
+        of the last full step: after a step cut short (to land a node or hit an output
+        time) it keeps the older state, since a difference over a sliver of time would
+        amplify its noise in the extrapolation by dt / dt_{n-1}.
+        """
+        if dt is None:
+            self.dt_previous = 0.0
+        elif self.dt_previous > 0 and dt < SHORT_STEP * self.dt_previous:
+            self.dt_previous += dt                   # keep u^{n-1}: a longer baseline
+        else:
+            self.before_previous.vec.data = self.previous.vec
+            self.dt_previous = dt
         self.previous.vec.data = self.solution.vec
 
     def reject(self) -> None:
