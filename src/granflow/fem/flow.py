@@ -25,7 +25,6 @@ from granflow.fem.nonlinear import (
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.physics import DruckerPrager
 
-
 SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 
 
