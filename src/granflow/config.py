@@ -126,6 +126,7 @@ class Mesh(_Section):
     size: Positive  # target edge length (m)
     cells_x: Annotated[int, Field(ge=2)] | None  # periodic layer; None = round(length / size)
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
+    failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
 
 
 class Numerics(_Section):
@@ -140,6 +141,7 @@ class Numerics(_Section):
     velocity_floor: Annotated[float, Field(ge=0)]  # m/s, floor of ||u|| in the (3.2) criterion
     volume_correction: bool  # restore the initial area after each ALE move (column only)
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
+    linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
 
     @property
     def tol_start(self) -> float:

@@ -65,7 +65,16 @@ def test_collapse_scenarios_match_the_papers_section_5() -> None:
     c = load_config("trapezoid-rigid")
     assert c.boundary.mu_bed == pytest.approx(math.tan(math.radians(25.5)))
     assert c.boundary.mu_wall == pytest.approx(math.tan(math.radians(10.2)))
-    assert (c.time.dt, c.time.dt_init, c.time.dt_max) == (None, 1e-8, 1e-4)
+    assert (c.time.dt, c.time.dt_init, c.time.dt_max) == (None, 1e-5, 1e-3)   # fast path
+    assert c.time.adaptive and c.time.stop_at_rest
+    paper = apply_overrides(c, PAPERS_ALGORITHM)
+    assert (paper.time.adaptive, paper.time.dt_init, paper.time.dt_max, paper.time.dt_growth,
+            paper.numerics.tol, paper.numerics.tol_init) == (False, 1e-8, 1e-4, 1.1, 1e-4, 1e-6)
+
+
+PAPERS_ALGORITHM = ["numerics.linearization=picard", "time.adaptive=false",
+                    "time.dt_init=1e-8", "time.dt_growth=1.1", "time.dt_max=1e-4",
+                    "numerics.tol=1e-4"]           # issue 13, item 5
 
 
 # ---------------------------------------------------------------- files and layering

@@ -55,6 +55,9 @@ class StubRemesher:
     def needs_remesh(self) -> bool:
         return False
 
+    def degraded(self) -> bool:
+        return False
+
     def remesh(self) -> None:
         self.calls += 1
         if self.fails:

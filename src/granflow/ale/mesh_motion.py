@@ -45,9 +45,9 @@ class _LinearMeshVelocity:
     """A linear problem for w^n assembled on the current mesh, its LU pattern reused."""
 
     def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, solution: ngs.GridFunction,
-                 freedofs: ngs.BitArray | None = None) -> None:
+                 solver: str = "umfpack") -> None:
         self._a, self._f, self._solution = a, f, solution
-        self._lu = ReusableLU(a, freedofs if freedofs is not None else a.space.FreeDofs())
+        self._lu = ReusableLU(a, a.space.FreeDofs(), solver)
 
     def compute(self) -> ngs.GridFunction:
         """Solve for w on the current mesh from the current velocity."""
@@ -73,7 +73,8 @@ class VerticalMeshVelocity(_LinearMeshVelocity):
     """
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
-                 target: ngs.GridFunction, penalty: float, periodic: bool = True) -> None:
+                 target: ngs.GridFunction, penalty: float, periodic: bool = True,
+                 solver: str = "umfpack") -> None:
         space = ngs.H1(mesh, order=2, dirichlet=BED)
         if periodic:
             space = ngs.Periodic(space)
@@ -85,7 +86,7 @@ class VerticalMeshVelocity(_LinearMeshVelocity):
         a += penalty * (w * n[1]) * (v * n[1]) * surface
         f = ngs.LinearForm(space)
         f += penalty * (velocity * n) * (v * n[1]) * surface
-        super().__init__(a, f, ngs.GridFunction(space))
+        super().__init__(a, f, ngs.GridFunction(space), solver)
         self._target = target
 
     def _store(self) -> ngs.GridFunction:
@@ -97,7 +98,7 @@ class ElasticMeshVelocity(_LinearMeshVelocity):
     """(3.6): int Dw:Dv + xi int_Gamma (w.N - u.N)(v.N) = 0 (boundary penalty)."""
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
-                 target: ngs.GridFunction, penalty: float) -> None:
+                 target: ngs.GridFunction, penalty: float, solver: str = "umfpack") -> None:
         w, v = target.space.TnT()
         n = ngs.specialcf.normal(2)
         a = ngs.BilinearForm(target.space)
@@ -105,7 +106,7 @@ class ElasticMeshVelocity(_LinearMeshVelocity):
         a += penalty * (w * n) * (v * n) * ngs.ds
         f = ngs.LinearForm(target.space)
         f += penalty * (velocity * n) * (v * n) * ngs.ds
-        super().__init__(a, f, target)
+        super().__init__(a, f, target, solver)
 
 
 class LagrangeMeshVelocity(_LinearMeshVelocity):
@@ -115,7 +116,7 @@ class LagrangeMeshVelocity(_LinearMeshVelocity):
     """
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
-                 target: ngs.GridFunction, penalty: float) -> None:
+                 target: ngs.GridFunction, penalty: float, solver: str = "umfpack") -> None:
         space = target.space * ngs.H1(mesh, order=2)
         (w, p), (v, q) = space.TnT()
         n = ngs.specialcf.normal(2)
@@ -125,7 +126,7 @@ class LagrangeMeshVelocity(_LinearMeshVelocity):
         a += (q * (w * n) + p * (v * n)) * ngs.ds
         f = ngs.LinearForm(space)
         f += q * (velocity * n) * ngs.ds
-        super().__init__(a, f, ngs.GridFunction(space))
+        super().__init__(a, f, ngs.GridFunction(space), solver)
         self._target = target
 
     def _store(self) -> ngs.GridFunction:

@@ -38,7 +38,8 @@ class FlowSolver:
     def __init__(self, mesh: ngs.Mesh, *, rheology: DruckerPrager, density: float,
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
-                 penalty: float = 0.0, linearization: str = "picard") -> None:
+                 penalty: float = 0.0, linearization: str = "picard",
+                 linear_solver: str = "umfpack") -> None:
         self.mesh = mesh
         self.linearization = linearization
         self.rheology = rheology
@@ -57,8 +58,8 @@ class FlowSolver:
         freedofs = self.space.FreeDofs()
         self.nonlinear = NonlinearSolver(
             picard=FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),
-                                    freedofs),
-            newton=ResidualSystem(residual_form(self.space, self.terms), freedofs),
+                                    freedofs, linear_solver),
+            newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),
             state=self.solution)
 
     @property

@@ -60,9 +60,10 @@ class IterationReport:
 class FixedPointSystem:
     """The matrix A(x^k) and right-hand side f of (3.2), with a reusable LU of A."""
 
-    def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray) -> None:
+    def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray,
+                 solver: str = "umfpack") -> None:
         self.a, self.f = a, f
-        self.lu = ReusableLU(a, freedofs)
+        self.lu = ReusableLU(a, freedofs, solver)
 
     def prepare(self) -> None:
         """Assemble what stays fixed during one step's iterations."""
@@ -81,9 +82,10 @@ class FixedPointSystem:
 class ResidualSystem:
     """A residual form R(x), its linearisation at x and the LU of that linearisation."""
 
-    def __init__(self, form: ngs.BilinearForm, freedofs: ngs.BitArray) -> None:
+    def __init__(self, form: ngs.BilinearForm, freedofs: ngs.BitArray,
+                 solver: str = "umfpack") -> None:
         self.form = form
-        self.lu = ReusableLU(form, freedofs)
+        self.lu = ReusableLU(form, freedofs, solver)
 
     def linearise(self, x: ngs.BaseVector) -> None:
         self.form.AssembleLinearization(x)

@@ -18,6 +18,7 @@ from granflow.diagnostics.interface import lower_envelope
 from granflow.diagnostics.state import flowing_cells
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
+from granflow.fem.linalg import direct_solver
 from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, WALL, polygon_mesh, signed_areas
@@ -53,6 +54,12 @@ class ColumnCollapse:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
         this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
+        return floor > 0 and float(shape_quality(self.mesh).min()) < floor
+
+    def degraded(self) -> bool:
+        """Worst triangle below mesh.failure_remesh_quality: a failed nonlinear solve on
+        this mesh is answered by a remesh before a smaller step."""
+        floor = self.config.mesh.failure_remesh_quality
         return floor > 0 and float(shape_quality(self.mesh).min()) < floor
 
     def remesh(self) -> None:
@@ -218,11 +225,14 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
              FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
-                        walls=walls, penalty=bnd.penalty, linearization=num.linearization)
+                        walls=walls, penalty=bnd.penalty, linearization=num.linearization,
+                        linear_solver=direct_solver(num.linear_solver))
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])
-    mover = ColumnMover(mesh, velocity_cls(mesh, source, solver.mesh_velocity, num.mesh_penalty),
+    w_solver = velocity_cls(mesh, source, solver.mesh_velocity, num.mesh_penalty,
+                            solver=direct_solver(num.linear_solver))
+    mover = ColumnMover(mesh, w_solver,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction)

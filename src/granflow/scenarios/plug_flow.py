@@ -12,6 +12,7 @@ from granflow.ale.mesh_motion import AleMover, VerticalMeshVelocity
 from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_relative_error_l2, vertical_profile
 from granflow.fem.flow import FlowSolver
+from granflow.fem.linalg import direct_solver
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.io.run_dir import RunDir
 from granflow.physics import DruckerPrager, gravity_vector
@@ -89,7 +90,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     force = gravity_vector(mat.gravity, geo.slope_deg)
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
                         periodic=True, dirichlet=BED,
-                        linearization=config.numerics.linearization)
+                        linearization=config.numerics.linearization,
+                        linear_solver=direct_solver(config.numerics.linear_solver))
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
@@ -98,7 +100,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     if config.numerics.mesh_velocity == "vertical":
         source = ngs.GridFunction(solver.space.components[0])
         w_solver = VerticalMeshVelocity(mesh, source, solver.mesh_velocity,
-                                        penalty=config.numerics.mesh_penalty)
+                                        penalty=config.numerics.mesh_penalty,
+                                        solver=direct_solver(config.numerics.linear_solver))
         motion = AleMover(mesh, w_solver, source=source, flow=solver,
                           target=solver.mesh_velocity,
                           extrapolate=config.numerics.ale_extrapolation)

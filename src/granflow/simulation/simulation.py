@@ -5,7 +5,9 @@ accepted step and never change it. It knows no file format.
 
 A step is accepted only when the move left a valid mesh, the nonlinear solve converged
 and the step policy accepts its local error; otherwise the move is undone and the step
-retried (after a remesh, or with a smaller dt).
+retried (after a remesh, or with a smaller dt). A remesh answers a move that tangles the
+mesh, and a nonlinear iteration that fails on a degraded mesh: flat cells at a thin front
+make the fixed-point iteration (3.2) cycle instead of converge (issue 13).
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ class Remesher(Protocol):
     """Replaces the mesh (and with it solver and mesh motion) when it has degraded."""
 
     def needs_remesh(self) -> bool: ...
+    def degraded(self) -> bool: ...
     def remesh(self) -> None: ...
 
 
@@ -158,11 +161,13 @@ class Simulation:
         key = attempt.rejection.name.lower()
         self.rejections[key] = self.rejections.get(key, 0) + 1
         failure = attempt.move_failure
-        if (failure is not None and failure.remeshable and self.remesher is not None
-                and not self.remeshed_this_step):
+        tangled = failure is not None and failure.remeshable
+        stalled = (attempt.rejection in (Rejection.NOT_CONVERGED, Rejection.NON_FINITE)
+                   and self.remesher is not None and self.remesher.degraded())
+        if (tangled or stalled) and self.remesher is not None and not self.remeshed_this_step:
             self.remeshed_this_step = True
             try:
-                self.remesher.remesh()  # a tangling move: new mesh, same dt
+                self.remesher.remesh()  # a tangling move or a stall: new mesh, same dt
                 return None
             except RuntimeError as exc:  # then fall back to smaller steps
                 self._remesh_error = f"; remeshing failed: {exc}"

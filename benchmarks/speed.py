@@ -1,0 +1,134 @@
+"""Benchmark (issue 13): the paper's algorithm (A) against the default fast path (B), back
+to back in one invocation, on the same mesh.
+
+Run: python benchmarks/speed.py [--cases trapezoid rectangle plug-flow stall ...]
+         [--repeat N] [--out benchmarks/results/speed]
+
+A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.1
+(dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh
+treatment (quality remeshing) and linear solver as B. B is granflow's default. With
+--today, A0 is also run: issue 9's verified algorithm and code path (no quality remeshing,
+UMFPACK), the baseline users had before issue 13. For each case the JSON holds both summaries, the wall-time ratio A/B (median over
+the repeats), the linear solves, and for the collapses the stop times, runouts and the
+mean / max distance between the free surfaces of A and B at every output time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import statistics
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from granflow.config import config_to_toml, load_config
+from granflow.diagnostics.compare import surface_distance
+from granflow.io.run_dir import RunDir
+from granflow.simulation.runner import run_simulation
+
+PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
+         "time.dt_growth=1.1", "time.dt_max=1e-4", "numerics.tol=1e-4",
+         "numerics.tol_init=1e-6", "numerics.ale_extrapolation=false",
+         "time.stop_at_rest=false"]
+# issue 9's verified runs: the paper's algorithm without quality remeshing, with UMFPACK
+TODAY = ["mesh.remesh_quality=0", "numerics.linear_solver=umfpack"]
+PLUG_PAPER = ["numerics.linearization=picard"]           # the plug flow's fixed dt and tol
+CASES: dict[str, tuple[str, list[str], list[str]]] = {
+    # name: (scenario, overrides of both, overrides of A only)
+    "trapezoid": ("trapezoid-rigid", [], PAPER),
+    "rectangle": ("rectangle-rigid", [], PAPER),
+    "plug-flow": ("plug-flow", ["numerics.eps=1e-6", "mesh.size=0.125", "time.t_end=0.2"],
+                  PLUG_PAPER),
+    # the column that stalled the fixed-point iteration near rest (issue 13)
+    "stall": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.05",
+                                  "time.t_end=2", "time.output_times=[0.1,0.2,0.3]"], PAPER),
+    "square": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.1",
+                                   "time.t_end=2", "time.output_times=[0.1,0.2,0.3,0.5]"],
+               PAPER),
+    "tall": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.2",
+                                 "time.t_end=2", "time.output_times=[0.1,0.2,0.3,0.5]"],
+             PAPER),
+}
+KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
+        "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
+        "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",
+        "n_triangles", "remeshes", "min_triangle_quality", "velocity_relative_error_l2",
+        "outputs_at_rest"]
+
+
+def run(scenario: str, overrides: list[str], out: Path) -> dict:
+    config = load_config(scenario, [*overrides, "output.progress=false"])
+    shutil.rmtree(out, ignore_errors=True)     # never mix the files of two runs
+    run_dir = RunDir.create(out)
+    run_dir.write_text("config.toml", config_to_toml(config))
+    summary = run_simulation(config, run_dir, progress=False)
+    return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
+
+
+def surfaces(a: Path, b: Path) -> dict[str, dict[str, float]]:
+    """Mean and max distance (m) between the free surfaces of two runs at each output."""
+    out = {}
+    for file in sorted((a / "profiles").glob("free_surface_t*.csv")):
+        other = b / "profiles" / file.name
+        if other.exists():
+            first = np.loadtxt(file, delimiter=",", skiprows=1, ndmin=2)
+            second = np.loadtxt(other, delimiter=",", skiprows=1, ndmin=2)
+            mean, worst = surface_distance(first, second)
+            out[file.name[len("free_surface_t"):-4]] = {"mean_m": mean, "max_m": worst}
+    return out
+
+
+def compare(name: str, repeat: int, out: Path, today: bool = False) -> dict:
+    scenario, common, paper = CASES[name]
+    result: dict = {"scenario": scenario, "common_overrides": common, "A_overrides": paper}
+    variants = [("A", paper), ("B", [])]
+    if today and paper is PAPER:
+        variants.append(("A0", [*paper, *TODAY]))
+    walls: dict[str, list[float]] = {label: [] for label, _ in variants}
+    for k in range(repeat):
+        for label, extra in variants:
+            summary = run(scenario, [*common, *extra], out / name / f"{label}{k}")
+            walls[label].append(summary["wall_time_s"])
+            result[label] = summary
+            print(name, label, k, json.dumps({x: summary[x] for x in (
+                "status", "steps", "linear_solves", "wall_time_s", "stop_time_s",
+                "runout_m", "velocity_relative_error_l2")}), flush=True)
+    a, b = result["A"], result["B"]
+    result["wall_time_median_s"] = {k: statistics.median(v) for k, v in walls.items()}
+    result["wall_times_s"] = walls
+    result["speedup"] = result["wall_time_median_s"]["A"] / result["wall_time_median_s"]["B"]
+    if "A0" in walls:
+        result["speedup_vs_today"] = (result["wall_time_median_s"]["A0"]
+                                      / result["wall_time_median_s"]["B"])
+        result["surfaces_today"] = surfaces(out / name / "A00", out / name / "B0")
+    result["linear_solves_ratio"] = a["linear_solves"] / max(b["linear_solves"], 1)
+    if a.get("runout_m") is not None and b.get("runout_m") is not None:
+        result["runout_difference_m"] = b["runout_m"] - a["runout_m"]
+        if a.get("stop_time_s") and b.get("stop_time_s"):
+            result["stop_time_relative_difference"] = b["stop_time_s"] / a["stop_time_s"] - 1
+        result["surfaces"] = surfaces(out / name / "A0", out / name / "B0")
+    return result
+
+
+def main(argv: list[str]) -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--cases", nargs="+", default=["trapezoid", "rectangle", "plug-flow"],
+                        choices=sorted(CASES))
+    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed"))
+    parser.add_argument("--today", action="store_true",
+                        help="also run issue 9's verified path (no quality remesh, UMFPACK)")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name in args.cases:
+        result = compare(name, args.repeat, args.out / "runs", args.today)
+        (args.out / f"{name}.json").write_text(json.dumps(result, indent=2))
+        print(name, "speed-up A/B", round(result["speedup"], 2), "solves",
+              result["A"]["linear_solves"], "/", result["B"]["linear_solves"], flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
