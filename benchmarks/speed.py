@@ -8,9 +8,10 @@ A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.
 (dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh
 treatment (quality remeshing) and linear solver as B. B is granflow's default. With
 --today, A0 is also run: issue 9's verified algorithm and code path (no quality remeshing,
-UMFPACK), the baseline users had before issue 13. For each case the JSON holds both summaries, the wall-time ratio A/B (median over
-the repeats), the linear solves, and for the collapses the stop times, runouts and the
-mean / max distance between the free surfaces of A and B at every output time.
+UMFPACK), the baseline users had before issue 13. For each case the JSON holds the
+summaries, the wall-time ratio A/B (median over the repeats), the linear solves, and for
+the collapses the stop times, runouts and the mean / max distance between the free
+surfaces of A and B at every output time.
 """
 
 from __future__ import annotations
