@@ -18,8 +18,8 @@ SOLVERS = ("auto", "umfpack", "pardiso")
 @cache
 def pardiso_available() -> bool:
     """Whether NGSolve can load PARDISO (from the MKL wheel)."""
-    mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.5))
-    space = ngs.H1(mesh, order=1, dirichlet=".*")
+    mesh = ngs.Mesh(ngs.unit_square.GenerateMesh(maxh=0.25))
+    space = ngs.H1(mesh, order=1)
     u, v = space.TnT()
     a = ngs.BilinearForm(space)
     a += u * v * ngs.dx
