@@ -33,6 +33,7 @@ from granflow.simulation.runner import run_simulation
 PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
          "time.dt_growth=1.1", "time.dt_max=1e-4", "numerics.tol=1e-4",
          "numerics.tol_init=1e-6", "numerics.ale_extrapolation=false",
+         "numerics.initial_guess=previous",
          "time.stop_at_rest=false"]
 PAPER_TO_REST = [o for o in PAPER if not o.startswith("time.stop_at_rest")]
 # issue 9's verified runs: the paper's algorithm without quality remeshing, with UMFPACK

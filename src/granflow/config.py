@@ -142,6 +142,7 @@ class Numerics(_Section):
     volume_correction: bool  # restore the initial area after each ALE move (column only)
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
     linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
+    initial_guess: Literal["previous", "extrapolated"]  # first iterate of (3.2)
 
     @property
     def tol_start(self) -> float:

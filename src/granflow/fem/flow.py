@@ -39,8 +39,9 @@ class FlowSolver:
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
                  penalty: float = 0.0, linearization: str = "picard",
-                 linear_solver: str = "umfpack") -> None:
+                 linear_solver: str = "umfpack", initial_guess: str = "previous") -> None:
         self.mesh = mesh
+        self.initial_guess = initial_guess
         self.linearization = linearization
         self.rheology = rheology
         self.density = density
@@ -83,14 +84,17 @@ class FlowSolver:
                    velocity_floor: float = 0.0) -> IterationReport:
         """(u^{n+1}, p^{n+1}) on the already-moved mesh.
 
-        Picard starts from (u^n, p^n) as in (3.2); Newton and the hybrid from the linear
-        extrapolation of the last two steps (when there are two), a better guess at no cost.
+        Picard starts from (u^n, p^n) as in (3.2), or with ``initial_guess =
+        "extrapolated"`` from the linear extrapolation of the last two steps (when there are
+        two), a better guess at no cost; Newton and the hybrid always start from the latter.
         """
         self.dt.Set(dt)
-        if self.linearization == "picard":
+        if self.initial_guess == "extrapolated" or self.linearization != "picard":
+            self.predict(dt, self.solution)
+        else:
             self.solution.vec.data = self.previous.vec
+        if self.linearization == "picard":
             return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
-        self.predict(dt, self.solution)
         if self.linearization == "newton":
             return self.nonlinear.solve_newton(tol, max_iterations, velocity_floor)
         return self.nonlinear.solve_hybrid(tol, max_iterations, velocity_floor)

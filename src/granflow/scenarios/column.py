@@ -226,7 +226,8 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
-                        linear_solver=direct_solver(num.linear_solver))
+                        linear_solver=direct_solver(num.linear_solver),
+                        initial_guess=num.initial_guess)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])

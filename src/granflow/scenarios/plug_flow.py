@@ -91,7 +91,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
                         periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
-                        linear_solver=direct_solver(config.numerics.linear_solver))
+                        linear_solver=direct_solver(config.numerics.linear_solver),
+                        initial_guess=config.numerics.initial_guess)
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
