@@ -127,6 +127,7 @@ class Mesh(_Section):
     cells_x: Annotated[int, Field(ge=2)] | None  # periodic layer; None = round(length / size)
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
     failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
+    layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
 
 
 class Numerics(_Section):
@@ -168,6 +169,7 @@ class SurfaceTension(_Section):
     enabled: bool
     delta: Positive  # extent of the tension around the tip, in surface nodes (3.11)
     gamma0: Literal["auto"] | NonNegative  # gamma0-bar of (3.11)
+    trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
 
 
 class Output(_Section):
@@ -250,7 +252,6 @@ def _problems(c: Config) -> Iterator[str]:
                    "column: its top width, width - height / tan(front_angle), must be > 0")
     not_yet = {
         "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
-        "surface_tension.enabled": (c.surface_tension.enabled, True, "false"),
     }
     for key, (value, reserved, use) in not_yet.items():
         if value == reserved:

@@ -211,7 +211,6 @@ def test_column_geometry_checks(assignment: str, expected: str) -> None:
 
 @pytest.mark.parametrize("source, assignment, key", [
     ("trapezoid-rigid", "material.rheology=mu-i", "material.rheology = 'mu-i'"),
-    ("trapezoid-erodible", "surface_tension.enabled=true", "surface_tension.enabled = true"),
 ])
 def test_reserved_choices_say_not_implemented_yet(source: str, assignment: str, key: str) -> None:
     assert error_of(source, assignment).startswith(f"{key} is not implemented yet")

@@ -1,8 +1,10 @@
-"""Mesh motion of a column over a rigid bed: ALE move, deposition, area conservation.
+"""Mesh motion of a column: ALE move, deposition, area conservation, surface tension.
 
 Section 3.3: the step is limited so that no boundary node crosses the bed or the wall; a
 surface node that reaches the bed becomes a bed node and its edges change boundary
-condition (Figure 2). Nodes on the bed and wall are kept exactly on them.
+condition (Figure 2). Nodes on the bed and walls (and on the far end of an erodible layer)
+are kept exactly on them. After each move the numerical surface tension of section 3.4
+(``ale/surface_tension.py``), when present, is set on the moved surface.
 """
 
 from __future__ import annotations
@@ -17,8 +19,15 @@ from granflow.ale.free_surface import (
     polygon_area,
     segments_intersect,
 )
-from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, MoveFailure, VelocityHistory
-from granflow.geometry.mesh import BED, SURFACE, WALL
+from granflow.ale.mesh_motion import (
+    AleMover,
+    MeshVelocitySolver,
+    MoveFailure,
+    VelocityHistory,
+)
+from granflow.ale.surface_tension import SurfaceTension
+from granflow.fem.sampling import triangles
+from granflow.geometry.mesh import BED, END, SURFACE, WALL
 
 LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
 
@@ -28,9 +37,13 @@ class ColumnMover(AleMover):
 
     def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
                  source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,
-                 extrapolate: bool = False, conserve_volume: bool = True) -> None:
+                 extrapolate: bool = False, conserve_volume: bool = True,
+                 tension: SurfaceTension | None = None) -> None:
         super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
         self.chain = BoundaryChain(mesh)
+        self.tension = tension
+        end = self.chain.vertices(END)
+        self.end_x = float(mesh.ngmesh.Coordinates()[end, 0].max()) if end.size else np.inf
         self.conserve_volume = conserve_volume
         self.initial_area = polygon_area(mesh.ngmesh.Coordinates(), self.chain.segments)
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
@@ -43,6 +56,8 @@ class ColumnMover(AleMover):
         self.relabelled_segments = other.relabelled_segments
         self.limited_steps = other.limited_steps
         self.velocity_solves = other.velocity_solves
+        if self.tension is not None and other.tension is not None:
+            self.tension.state = other.tension.state
 
     def prepare(self, dt: float) -> float:
         """w for this step, and dt shortened so that no boundary node crosses bed or wall.
@@ -54,7 +69,8 @@ class ColumnMover(AleMover):
         assert self.w_vertices is not None
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
-        candidates = np.setdiff1d(np.unique(self.chain.segments), np.union1d(bed, wall))
+        candidates = np.setdiff1d(np.unique(self.chain.segments),
+                                  np.union1d(np.union1d(bed, wall), self._on_end()))
         times = landing_time(xy, self.w_vertices, candidates)
         t_min = float(times.min()) if times.size else np.inf
         if t_min < dt:
@@ -78,30 +94,46 @@ class ColumnMover(AleMover):
         """
         assert self.w_vertices is not None
         surface = self.chain.vertices(SURFACE)
-        corners = np.intersect1d(surface, np.union1d(self._on_bed(), self._on_wall()))
+        walls = np.union1d(np.union1d(self._on_bed(), self._on_wall()), self._on_end())
+        corners = np.intersect1d(surface, walls)
         self.w_vertices[corners] = self.source_at_vertices(dt)[corners]
 
     def move(self, dt: float) -> None:
         super().move(dt)
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
+        end = self._on_end()
         xy[bed, 1] = 0.0
         xy[wall, 0] = 0.0
+        xy[end, 0] = self.end_x
         for v in self.landed:          # a landing node lands exactly on the bed or the wall
             if xy[v, 1] <= abs(xy[v, 0]):
                 xy[v, 1] = 0.0
             else:
                 xy[v, 0] = 0.0
         if self.conserve_volume:
-            pinned = np.union1d(np.union1d(bed, wall), self.landed)
+            pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             conserve_area(xy, self.chain.segments, movable, self.initial_area)
+        if self.tension is not None:
+            self.tension.update(self.chain.surface_chains(), self.pressure_under)
+
+    def pressure_under(self, vertices: np.ndarray) -> float:
+        """Mean pressure p^n over the triangles with an edge between two of ``vertices``
+        (surface nodes): the first cells under that part of the surface (section 3.4)."""
+        tri = triangles(self.mesh)
+        under = np.isin(tri, vertices).sum(axis=1) >= 2
+        p = self.flow.previous.components[1].vec.FV().NumPy()[:self.mesh.nv]
+        return float(p[tri[under]].mean()) if under.any() else 0.0
 
     def _on_bed(self) -> np.ndarray:
         """Vertices on bed segments, and landed surface vertices not yet on one (Z = 0)."""
         xy = self.mesh.ngmesh.Coordinates()
         landed = np.flatnonzero(xy[:, 1] <= 0.0)
         return np.union1d(self.chain.vertices(BED), landed)
+
+    def _on_end(self) -> np.ndarray:
+        return self.chain.vertices(END)
 
     def _on_wall(self) -> np.ndarray:
         xy = self.mesh.ngmesh.Coordinates()
@@ -112,13 +144,16 @@ class ColumnMover(AleMover):
         if problem is not None:
             return problem
         xy = self.mesh.ngmesh.Coordinates()
-        if np.any(xy[:, 1] < -1e-12) or np.any(xy[:, 0] < -1e-12):
+        if (np.any(xy[:, 1] < -1e-12) or np.any(xy[:, 0] < -1e-12)
+                or np.any(xy[:, 0] > self.end_x + 1e-12)):
             return MoveFailure.CROSSED_WALL
         if segments_intersect(xy, self.chain.segments):
             return MoveFailure.SELF_INTERSECTS
         return None
 
     def after_accept(self) -> None:
+        if self.tension is not None and self.tension.state.active:
+            self.tension.state.active_steps += 1
         self.relabelled_segments += self.chain.deposit(tol=1e-12)
         super().after_accept()
 

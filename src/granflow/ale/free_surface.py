@@ -9,7 +9,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from granflow.geometry.mesh import BED, SURFACE, WALL
+from granflow.geometry.mesh import BED, END, LABELS, SURFACE, WALL
 
 
 class BoundaryChain:
@@ -18,7 +18,7 @@ class BoundaryChain:
     def __init__(self, mesh: ngs.Mesh) -> None:
         self.mesh = mesh
         names = [mesh.ngmesh.GetBCName(i) for i in range(len(mesh.GetBoundaries()))]
-        self.index = {name: names.index(name) + 1 for name in (BED, WALL, SURFACE)}
+        self.index = {name: names.index(name) + 1 for name in LABELS if name in names}
 
     @property
     def segments(self) -> np.ndarray:
@@ -30,21 +30,24 @@ class BoundaryChain:
 
     def vertices(self, label: str) -> np.ndarray:
         """Vertices on at least one segment of ``label``."""
+        if label not in self.index:
+            return np.empty(0, dtype=np.int64)
         seg = self.segments[self.labels() == self.index[label]]
         return np.unique(seg)
 
     def free_vertices(self) -> np.ndarray:
         """Surface vertices that touch neither the bed nor the wall."""
         surface = self.vertices(SURFACE)
-        fixed = np.union1d(self.vertices(BED), self.vertices(WALL))
+        fixed = np.union1d(np.union1d(self.vertices(BED), self.vertices(WALL)),
+                           self.vertices(END))
         return np.setdiff1d(surface, fixed)
 
-    def surface_polyline(self) -> np.ndarray:
-        """Surface vertex coordinates from the wall top to the front.
+    def surface_chains(self) -> list[np.ndarray]:
+        """Vertex indices of each surface chain, from its wall side to its front end.
 
-        The boundary runs counter-clockwise, so each surface chain runs from its front end
-        towards the wall; deposition can split the surface into several chains (a bed edge
-        between them). Chains are taken front first, then the whole list is reversed.
+        The boundary runs counter-clockwise, so each chain runs from its front end towards
+        the wall; deposition can split the surface into several chains (a bed edge between
+        them). Chains are listed from the wall outwards.
         """
         xy = self.mesh.ngmesh.Coordinates()
         seg = self.segments[self.labels() == self.index[SURFACE]]
@@ -52,14 +55,19 @@ class BoundaryChain:
         starts = sorted(set(nxt) - {int(b) for b in seg[:, 1]}, key=lambda v: -xy[v, 0])
         if not starts:
             starts = [int(seg[0, 0])]
-        chain: list[int] = []
+        chains: list[np.ndarray] = []
         for start in starts:
-            v = start
-            chain.append(v)
+            v, chain = start, [start]
             while v in nxt and len(chain) <= 2 * len(seg):
                 v = nxt[v]
                 chain.append(v)
-        return xy[chain[::-1]]
+            chains.append(np.array(chain[::-1], dtype=np.int64))
+        return chains[::-1]
+
+    def surface_polyline(self) -> np.ndarray:
+        """Surface vertex coordinates from the wall top to the front (all chains joined)."""
+        xy = self.mesh.ngmesh.Coordinates()
+        return xy[np.concatenate(self.surface_chains())]
 
     def deposit(self, tol: float) -> int:
         """Relabel surface segments lying on the bed (Z <= tol) or wall (X <= tol)."""

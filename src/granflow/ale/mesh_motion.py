@@ -95,18 +95,23 @@ class VerticalMeshVelocity(_LinearMeshVelocity):
 
 
 class ElasticMeshVelocity(_LinearMeshVelocity):
-    """(3.6): int Dw:Dv + xi int_Gamma (w.N - u.N)(v.N) = 0 (boundary penalty)."""
+    """(3.6): int Dw:Dv + xi int_Gamma (w.N - u.N)(v.N) = 0 (boundary penalty).
+
+    The system is symmetric positive definite, so it is factorised by sparse Cholesky
+    whatever ``solver`` says: at 20,000 triangles it takes 74 MB against 242 MB for
+    PARDISO's LU, at the same speed (issue 13, peak memory).
+    """
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
                  target: ngs.GridFunction, penalty: float, solver: str = "umfpack") -> None:
         w, v = target.space.TnT()
         n = ngs.specialcf.normal(2)
-        a = ngs.BilinearForm(target.space)
+        a = ngs.BilinearForm(target.space, symmetric=True)
         a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
         a += penalty * (w * n) * (v * n) * ngs.ds
         f = ngs.LinearForm(target.space)
         f += penalty * (velocity * n) * (v * n) * ngs.ds
-        super().__init__(a, f, target, solver)
+        super().__init__(a, f, target, "sparsecholesky")
 
 
 class LagrangeMeshVelocity(_LinearMeshVelocity):

@@ -8,12 +8,14 @@ place where granflow interpolates the velocity.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+
 import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.free_surface import BoundaryChain, segments_intersect
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
+from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
@@ -47,7 +49,10 @@ def boundary_loop(chain: BoundaryChain) -> tuple[np.ndarray, list[str]]:
     return np.array(loop), edge_labels
 
 
-def remesh(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
+EdgeSize = Callable[[np.ndarray, np.ndarray], float]
+
+
+def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None) -> ngs.Mesh:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -57,7 +62,8 @@ def remesh(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
     vertices bunched closer than ``MIN_SURFACE_EDGE * size`` are merged: (3.7) lets nodes
     slide along the surface, and where they converge they can overtake one another and
     fold the surface into a hairpin of zero thickness. The area this removes (a sliver) is
-    restored by the area correction of the next move.
+    restored by the area correction of the next move. ``edge_size(p, q)``, if given, is the
+    target length on the boundary edge from p to q (a thin erodible layer).
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
@@ -69,7 +75,16 @@ def remesh(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
     if segments_intersect(np.array(points), ring):
         raise RuntimeError("the free surface folded through itself and merging close surface "
                            "nodes does not untangle it; cannot remesh")
-    return polygon_mesh(points, edge_labels, size)
+    return polygon_mesh(points, edge_labels, size, boundary_edge_sizes(points, edge_size))
+
+
+def boundary_edge_sizes(points: Sequence[tuple[float, float]],
+                        edge_size: EdgeSize | None) -> list[float] | None:
+    """Target length of each edge of the closed polygon ``points`` (None: the global size)."""
+    if edge_size is None:
+        return None
+    pts = np.asarray(points, dtype=float)
+    return [edge_size(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
 
 
 def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) -> list[int]:
@@ -85,7 +100,7 @@ def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) 
     keep: list[int] = []
     dropped_previous = False
     for i in range(len(pts)):
-        straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL)
+        straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL, END)
         inner_surface = labels[i - 1] == labels[i] == SURFACE
         flat = inner_surface and turn[i] < STRAIGHT_DEG
         close = inner_surface and bool(keep) and (

@@ -10,6 +10,7 @@ import ngsolve as ngs
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.forms import (
     FrictionWall,
+    SurfaceTraction,
     fixed_point_forms,
     frobenius,
     momentum_terms,
@@ -39,7 +40,8 @@ class FlowSolver:
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
                  penalty: float = 0.0, linearization: str = "picard",
-                 linear_solver: str = "umfpack", initial_guess: str = "previous") -> None:
+                 linear_solver: str = "umfpack", initial_guess: str = "previous",
+                 surface_tension_on: str | None = None) -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -52,10 +54,14 @@ class FlowSolver:
         self.dt = ngs.Parameter(1.0)
         self.before_previous = ngs.GridFunction(self.space)   # (u^{n-1}, p^{n-1})
         self.dt_previous = 0.0                  # t^n - t^{n-1}; 0 = no history yet
+        # gamma of (2.11)/(3.8) at the vertices, on the boundary ``surface_tension_on``
+        self.surface_tension = ngs.GridFunction(ngs.H1(mesh, order=1))
+        traction = (None if surface_tension_on is None
+                    else SurfaceTraction(surface_tension_on, self.surface_tension))
         self.terms = momentum_terms(
             density=density, dt=self.dt, previous=self.previous.components[0],
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
-            walls=walls, penalty=penalty)
+            walls=walls, penalty=penalty, surface_traction=traction)
         freedofs = self.space.FreeDofs()
         self.nonlinear = NonlinearSolver(
             picard=FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),

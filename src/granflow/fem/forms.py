@@ -185,16 +185,35 @@ class NormalPenalty(_LhsOnly):
             definedon=mesh.Boundaries(self.region))
 
 
+@dataclass(frozen=True)
+class SurfaceTraction:
+    """gamma v . N on the free surface: the right-hand side of (2.17a) with (2.11), gamma
+    the numerical surface tension gamma_0 C of (3.8), a known field during the step."""
+
+    region: str
+    gamma: ngs.CoefficientFunction
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
+        return None
+
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        n = ngs.specialcf.normal(mesh.dim)
+        return self.gamma * (s.v * n) * ngs.ds(definedon=mesh.Boundaries(self.region))
+
+
 def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.CoefficientFunction,
                    mesh_velocity: ngs.CoefficientFunction, rheology: DruckerPrager,
                    body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
-                   penalty: float = 0.0) -> list[Term]:
-    """The terms of (3.2a)-(3.2b) for a flow with the given walls."""
+                   penalty: float = 0.0,
+                   surface_traction: SurfaceTraction | None = None) -> list[Term]:
+    """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension)."""
     stress = ViscoplasticStress(rheology)
     terms: list[Term] = [Inertia(density, dt, previous), Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
     for wall in walls:
         terms += [CoulombWallFriction(wall, stress), NormalPenalty(wall.region, penalty)]
+    if surface_traction is not None:
+        terms.append(surface_traction)
     return terms
 
 

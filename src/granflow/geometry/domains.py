@@ -1,7 +1,8 @@
 """Built-in initial domains as labelled polygons (paper Figure 6).
 
 Coordinates are (X, Z) in metres with the wall at X = 0 and the rigid bed at Z = 0. Each
-polygon edge carries a boundary label: ``bed``, ``wall`` or ``surface``.
+polygon edge carries a boundary label: ``bed``, ``wall``, ``surface`` or ``end`` (the far end
+of an erodible layer).
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from granflow.geometry.mesh import BED, SURFACE, WALL
+from granflow.geometry.mesh import BED, END, SURFACE, WALL
 
 
 @dataclass(frozen=True)
@@ -40,7 +41,12 @@ def column(shape: str, width: float, height: float, front_angle_deg: float = 90.
     """Trapezoid (front face at ``front_angle_deg`` from the bed, base ``width``) or rectangle.
 
     With ``erodible_thickness`` > 0 a layer of that thickness covers the bed up to
-    ``bed_length`` (configuration (III)); its far end is a free surface.
+    ``bed_length`` (configuration (III)); the column stands on it, its front face continued
+    through the layer down to X = ``width`` on the rigid bed (the same base-width
+    convention as over a rigid bed), so ``height`` includes the layer. The layer's far end
+    is a frictionless wall (label ``end``): a layer at rest under gravity carries no shear
+    on vertical planes, so this is the exact boundary of an undisturbed layer that goes on
+    beyond ``bed_length``; a free end would slump.
     """
     angle = 90.0 if shape == "rectangle" else front_angle_deg
     top = width - height / math.tan(math.radians(angle)) if angle < 90 else width
@@ -49,7 +55,7 @@ def column(shape: str, width: float, height: float, front_angle_deg: float = 90.
         foot = width - he / math.tan(math.radians(angle)) if angle < 90 else width
         points = ((0.0, 0.0), (bed_length, 0.0), (bed_length, he), (foot, he),
                   (top, height), (0.0, height))
-        labels = (BED, SURFACE, SURFACE, SURFACE, SURFACE, WALL)
+        labels = (BED, END, SURFACE, SURFACE, SURFACE, WALL)
     else:
         points = ((0.0, 0.0), (width, 0.0), (top, height), (0.0, height))
         labels = (BED, SURFACE, SURFACE, WALL)

@@ -1,4 +1,5 @@
-"""Meshes of the built-in domains (labels: ``bed``, ``wall``, ``surface``)."""
+"""Meshes of the built-in domains (labels: ``bed``, ``wall``, ``surface``, and ``end``, the
+far end of an erodible layer)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
-BED, WALL, SURFACE = "bed", "wall", "surface"
+BED, WALL, SURFACE, END = "bed", "wall", "surface", "end"
+LABELS = (BED, WALL, SURFACE, END)
 
 
 def periodic_layer_mesh(length: float, height: float, size: float,
@@ -41,17 +43,20 @@ def signed_areas(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray
 
 
 def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
-                 size: float) -> ngs.Mesh:
+                 size: float, edge_sizes: Sequence[float] | None = None) -> ngs.Mesh:
     """Netgen triangulation of a labelled polygon, without corner triangles.
 
-    A triangle with two boundary edges flattens when the overturning front lands on the
-    bed; such corner triangles are removed by flipping their interior edge.
+    ``edge_sizes[i]`` (default ``size``) is the target length on edge i, from which Netgen
+    grades the interior (a thin erodible layer is resolved this way). A triangle with two
+    boundary edges flattens when the overturning front lands on the bed; such corner
+    triangles are removed by flipping their interior edge.
     """
     geo = SplineGeometry()
     ids = [geo.AppendPoint(x, y) for x, y in points]
     for i, label in enumerate(labels):
+        local = {} if edge_sizes is None else {"maxh": min(size, edge_sizes[i])}
         geo.Append(["line", ids[i], ids[(i + 1) % len(ids)]], bc=label,
-                   leftdomain=1, rightdomain=0)
+                   leftdomain=1, rightdomain=0, **local)
     ngmesh = geo.GenerateMesh(maxh=size)
     xy = np.array([[p[0], p[1]] for p in ngmesh.Points()])
     tri = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
@@ -72,7 +77,7 @@ def build_mesh(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
     for a, b, c in tri:
         ngmesh.Add(Element2D(domain, [pids[a], pids[b], pids[c]]))
     regions: dict[str, int] = {}
-    for name in (BED, WALL, SURFACE):
+    for name in LABELS:
         regions[name] = ngmesh.AddRegion(name, dim=1)
     for (a, b), name in zip(segments, seg_labels, strict=True):
         ngmesh.Add(Element1D([pids[a], pids[b]], index=regions[name]))

@@ -1,4 +1,6 @@
-"""Collapse of a granular column over a rigid bed (configuration (b), sections 3 and 5)."""
+"""Collapse of a granular column over a rigid or erodible bed (configuration (b), sections 3
+and 5): the scenario builder assembles the mesh, the flow solver, the moving mesh with its
+free-surface treatments (``ale/``) and the loop."""
 
 from __future__ import annotations
 
@@ -10,7 +12,8 @@ import numpy as np
 
 from granflow.ale.column_mover import ColumnMover
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
-from granflow.ale.remesh import remesh, shape_quality
+from granflow.ale.remesh import EdgeSize, boundary_edge_sizes, remesh, shape_quality
+from granflow.ale.surface_tension import SurfaceTension
 from granflow.ale.transfer import transfer_state
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
@@ -21,7 +24,7 @@ from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
-from granflow.geometry.mesh import BED, WALL, polygon_mesh, signed_areas
+from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
 from granflow.physics import CoulombFriction, DruckerPrager, gravity_vector
 from granflow.simulation.rest import RestCriterion
@@ -67,9 +70,9 @@ class ColumnCollapse:
         (``ale/transfer.py``: interpolation inside the old domain, then a divergence-free
         projection)."""
         old_solver, old_mover = self.solver, self.mover
-        mesh = remesh(self.mesh, self.config.mesh.size)
+        mesh = remesh(self.mesh, self.config.mesh.size, layer_edge_sizes(self.config))
         solver, mover = _flow_and_motion(self.config, mesh)
-        walls, penalty = [BED, WALL], self.config.boundary.penalty
+        walls, penalty = [BED, WALL, END], self.config.boundary.penalty
         transfer_state(old_solver.previous, solver.previous, walls, penalty)
         if old_solver.dt_previous > 0:
             transfer_state(old_solver.before_previous, solver.before_previous, walls, penalty)
@@ -82,14 +85,29 @@ class ColumnCollapse:
         self.fresh_quality = float(shape_quality(mesh).min())
 
     # --- observers' side ---------------------------------------------------------------
+    def front(self) -> float:
+        """Front X: the rightmost point of the mass; over an erodible layer of thickness
+        h_e, the rightmost surface point more than 1 mm above the undisturbed layer."""
+        he = self.config.geometry.erodible_thickness
+        if he <= 0:
+            return front_diag.front_position(self.mesh.ngmesh.Coordinates())
+        return front_diag.thick_front(self.surface(), he + 1e-3)
+
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
         """Front, its speed (cells touching the front vertex) and the height at the wall."""
         xy = self.mesh.ngmesh.Coordinates()
         tri = triangles(self.mesh)
-        at_front = np.any(tri == int(np.argmax(xy[:, 0])), axis=1)
+        x_front = self.front()
+        front_vertex = int(np.argmin(np.abs(xy[:, 0] - x_front)))
+        at_front = np.any(tri == front_vertex, axis=1)
         speed = float(cell_speed[at_front].max())      # cells touching the front vertex
-        return {"front_x": front_diag.front_position(xy), "front_speed": speed,
-                "wall_height": front_diag.wall_height(xy)}
+        out = {"front_x": x_front, "front_speed": speed,
+               "wall_height": front_diag.wall_height(xy)}
+        tension = self.mover.tension
+        if tension is not None:
+            out["tension_on"] = float(tension.state.active)
+            out["tension_x"] = tension.state.critical_x if tension.state.active else np.nan
+        return out
 
     def record(self, row: dict[str, float]) -> None:
         for key, values in self.history.items():
@@ -155,8 +173,9 @@ class ColumnCollapse:
         xy = self.mesh.ngmesh.Coordinates()
         surface = self.surface()
         return {
-            "runout_m": front_diag.front_position(xy),
-            "runout_1mm_m": front_diag.thick_front(surface),
+            "runout_m": self.front(),
+            "runout_1mm_m": front_diag.thick_front(
+                surface, self.config.geometry.erodible_thickness + 1e-3),
             "surface_edge_spread": front_diag.surface_edge_spread(surface),
             "stop_time_s": (stop := front_diag.stop_time(h["t"], h["flowing_fraction"],
                                                          self.config.time.rest_fraction)),
@@ -171,6 +190,8 @@ class ColumnCollapse:
             "min_triangle_area_m2": float(np.min(signed_areas(self.mesh))),
             "min_triangle_quality": float(np.min(shape_quality(self.mesh))),
             "remeshes": self.remeshes,
+            "surface_tension_steps": (self.mover.tension.state.active_steps
+                                      if self.mover.tension is not None else None),
         }
 
     def plot(self, run_dir: RunDir) -> None:
@@ -189,12 +210,24 @@ def _highest_crossing(polyline: np.ndarray, x: float) -> float | None:
     return best
 
 
+def layer_edge_sizes(config: Config) -> EdgeSize | None:
+    """Over an erodible layer of thickness h_e: edges lying within 2 h_e of the bed get
+    length h_e / mesh.layer_cells (the bed, the layer's top and its end), so that the
+    layer has that many cells across; Netgen grades the rest up to mesh.size."""
+    he, cells = config.geometry.erodible_thickness, config.mesh.layer_cells
+    if he <= 0:
+        return None
+    fine, size = he / cells, config.mesh.size
+    return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
+
+
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     geo, mat = config.geometry, config.material
     polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
                      geo.erodible_thickness, geo.bed_length)
-    mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size)
+    mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
+                        boundary_edge_sizes(polygon.points, layer_edge_sizes(config)))
     solver, mover = _flow_and_motion(config, mesh)
     force = gravity_vector(mat.gravity, geo.slope_deg)
     xy = mesh.ngmesh.Coordinates()
@@ -223,11 +256,17 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
                              eps=num.eps)
     walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction)),
              FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
+    if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
+        walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction)))
+    st = config.surface_tension
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
                         linear_solver=direct_solver(num.linear_solver),
-                        initial_guess=num.initial_guess)
+                        initial_guess=num.initial_guess,
+                        surface_tension_on=SURFACE if st.enabled else None)
+    tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
+                              st.trigger_angle_deg, config.mesh.size) if st.enabled else None)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])
@@ -236,5 +275,5 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
     mover = ColumnMover(mesh, w_solver,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
-                        conserve_volume=num.volume_correction)
+                        conserve_volume=num.volume_correction, tension=tension)
     return solver, mover

@@ -25,7 +25,7 @@ from granflow.simulation.simulation import RunResult, Simulation
 
 DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
                       "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
-                      "local_error"]
+                      "local_error", "tension_on", "tension_x"]
 ANIMATION_INTERVAL_S = 0.02
 
 
