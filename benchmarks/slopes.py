@@ -1,0 +1,90 @@
+"""Benchmark (issue 14): collapses on sloping beds, rigid and erodible, both shapes.
+
+Run: python benchmarks/slopes.py [--slopes 0 10 16 22] [--beds rigid erodible]
+         [--shapes trapezoid rectangle] [--set key=value ...] [--out benchmarks/results/slopes]
+
+Each run goes to OUT/runs/SHAPE-BED-SLOPE (a normal run directory); OUT/slopes.json collects
+status, stop time, runout (the front of the mass, over a layer the eroding mass) and
+counters, and OUT/slopes.md the table of runout, stop time and erodible/rigid runout ratio
+against slope. The erodible variants are the scenarios' columns standing on the 5 mm layer
+of `trapezoid-erodible` (h0 including the layer, the layer's end at `bed_length`), with its
+surface tension and (3.7) mesh velocity; nothing else is changed between the slopes.
+`geometry.bed_length` is raised with the slope so that the layer never ends under the flow.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from granflow.config import config_to_toml, load_config
+from granflow.io.run_dir import RunDir
+from granflow.simulation.runner import run_simulation
+
+KEYS = ["status", "message", "t_final", "steps", "linear_solves", "wall_time_s",
+        "stop_time_s", "runout_m", "runout_1mm_m", "volume_relative_error", "n_triangles",
+        "remeshes", "surface_tension_steps"]
+ERODIBLE = ["geometry.erodible_thickness=0.005", "numerics.mesh_velocity=lagrange",
+            "surface_tension.enabled=true", "mesh.layer_cells=2"]
+SCENARIO = {"trapezoid": "trapezoid-rigid", "rectangle": "rectangle-rigid"}
+
+
+def overrides(shape: str, bed: str, slope: float) -> list[str]:
+    extra = [f"geometry.slope_deg={slope!r}", "time.t_end=3.0",
+             f"geometry.bed_length={1.0 + 0.1 * slope!r}"]
+    if bed == "erodible":
+        height = 0.25 if shape == "trapezoid" else 0.14
+        extra += [*ERODIBLE, f"geometry.height={height + 0.005!r}"]
+    return extra
+
+
+def table(results: dict[str, dict]) -> str:
+    lines = ["| shape | slope (deg) | runout rigid (m) | runout erodible (m) | ratio | "
+             "stop rigid (s) | stop erodible (s) |", "|---|---|---|---|---|---|---|"]
+    keys = sorted({(r["shape"], r["slope"]) for r in results.values()})
+    for shape, slope in keys:
+        rigid = results.get(f"{shape}-rigid-{slope:g}", {})
+        ero = results.get(f"{shape}-erodible-{slope:g}", {})
+        ratio = (ero["runout_m"] / rigid["runout_m"]
+                 if ero.get("runout_m") and rigid.get("runout_m") else None)
+
+        def fmt(x: float | None, f: str = ".3f") -> str:
+            return "-" if x is None else format(x, f)
+
+        lines.append(f"| {shape} | {slope:g} | {fmt(rigid.get('runout_m'))} | "
+                     f"{fmt(ero.get('runout_m'))} | {fmt(ratio)} | "
+                     f"{fmt(rigid.get('stop_time_s'))} | {fmt(ero.get('stop_time_s'))} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--slopes", nargs="+", type=float, default=[0.0, 10.0, 16.0, 22.0])
+    parser.add_argument("--beds", nargs="+", default=["rigid", "erodible"])
+    parser.add_argument("--shapes", nargs="+", default=["trapezoid", "rectangle"])
+    parser.add_argument("--set", dest="extra", action="append", default=[])
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/slopes"))
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    store = args.out / "slopes.json"
+    results = json.loads(store.read_text()) if store.exists() else {}
+    for shape in args.shapes:
+        for bed in args.beds:
+            for slope in args.slopes:
+                name = f"{shape}-{bed}-{slope:g}"
+                config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope),
+                                                       *args.extra])
+                run_dir = RunDir.create(args.out / "runs" / name)
+                run_dir.write_text("config.toml", config_to_toml(config))
+                summary = run_simulation(config, run_dir, progress=False)
+                results[name] = {k: summary.get(k) for k in KEYS} | {
+                    "shape": shape, "bed": bed, "slope": slope}
+                print(name, json.dumps(results[name]), flush=True)
+                store.write_text(json.dumps(results, indent=2))
+                (args.out / "slopes.md").write_text(table(results))
+    print(table(results))
+
+
+if __name__ == "__main__":
+    main()
