@@ -107,6 +107,7 @@ class Boundary(_Section):
     bed_friction_deg: Angle  # Coulomb mu_b = tan(angle)
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
     penalty: Positive  # enforces u.n = 0 on the bed and the wall
+    normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
 
     @property
     def mu_bed(self) -> float:

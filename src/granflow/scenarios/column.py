@@ -254,10 +254,11 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
     rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
                              eps=num.eps)
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction)),
-             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction))]
+    load = bnd.normal_load
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load),
+             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction), load)]
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
-        walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction)))
+        walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
     st = config.surface_tension
     solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
