@@ -1,5 +1,9 @@
 """Mesh motion of a column: ALE move, deposition, area conservation, surface tension.
 
+The free-surface treatments live in their own modules: deposition (``ale/deposition.py``),
+surface tension (``ale/surface_tension.py``), remeshing (``ale/remesh.py``, called by the
+loop on a typed ``MoveFailure``).
+
 Section 3.3: the step is limited so that no boundary node crosses the bed or the wall; a
 surface node that reaches the bed becomes a bed node and its edges change boundary
 condition (Figure 2). Nodes on the bed and walls (and on the far end of an erodible layer)
@@ -12,10 +16,14 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from granflow.ale.deposition import (
+    limit_step,
+    relabel_deposited,
+    snap_landed,
+)
 from granflow.ale.free_surface import (
     BoundaryChain,
     conserve_area,
-    landing_time,
     polygon_area,
     segments_intersect,
 )
@@ -28,8 +36,6 @@ from granflow.ale.mesh_motion import (
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import BED, END, SURFACE, WALL
-
-LANDING_TOLERANCE = 1e-9  # relative slack on the landing time of a node
 
 
 class ColumnMover(AleMover):
@@ -71,14 +77,12 @@ class ColumnMover(AleMover):
         bed, wall = self._on_bed(), self._on_wall()
         candidates = np.setdiff1d(np.unique(self.chain.segments),
                                   np.union1d(np.union1d(bed, wall), self._on_end()))
-        times = landing_time(xy, self.w_vertices, candidates)
-        t_min = float(times.min()) if times.size else np.inf
-        if t_min < dt:
-            dt = t_min
+        limited, self.landed = limit_step(xy, self.w_vertices, candidates, dt)
+        if limited < dt:
+            dt = limited
             self.limited_steps += 1
-            if self.extrapolate:
+            if self.extrapolate:   # w for the shortened step; the landed set is kept
                 self._prepare_w(dt)
-        self.landed = candidates[times <= dt * (1 + LANDING_TOLERANCE)]
         return dt
 
     def _prepare_w(self, dt: float) -> None:
@@ -106,11 +110,7 @@ class ColumnMover(AleMover):
         xy[bed, 1] = 0.0
         xy[wall, 0] = 0.0
         xy[end, 0] = self.end_x
-        for v in self.landed:          # a landing node lands exactly on the bed or the wall
-            if xy[v, 1] <= abs(xy[v, 0]):
-                xy[v, 1] = 0.0
-            else:
-                xy[v, 0] = 0.0
+        snap_landed(xy, self.landed)   # a landing node lands exactly on the bed or the wall
         if self.conserve_volume:
             pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
@@ -154,7 +154,7 @@ class ColumnMover(AleMover):
     def after_accept(self) -> None:
         if self.tension is not None and self.tension.state.active:
             self.tension.state.active_steps += 1
-        self.relabelled_segments += self.chain.deposit(tol=1e-12)
+        self.relabelled_segments += relabel_deposited(self.chain, tol=1e-12)
         super().after_accept()
 
     def area(self) -> float:

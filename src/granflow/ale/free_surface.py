@@ -1,7 +1,7 @@
-"""The boundary of a column mesh: labels, deposition onto the bed (Figure 2), validity.
+"""The boundary of a column mesh: its labelled segments, the free-surface chains, and the
+geometric checks and area of the boundary polygon.
 
-Works on the live Netgen mesh: segment labels are relabelled in place, vertex positions
-are read from and written to ``Coordinates()``.
+Works on the live Netgen mesh: vertex positions are read from ``Coordinates()``.
 """
 
 from __future__ import annotations
@@ -69,26 +69,6 @@ class BoundaryChain:
         xy = self.mesh.ngmesh.Coordinates()
         return xy[np.concatenate(self.surface_chains())]
 
-    def deposit(self, tol: float) -> int:
-        """Relabel surface segments lying on the bed (Z <= tol) or wall (X <= tol)."""
-        xy = self.mesh.ngmesh.Coordinates()
-        e1 = self.mesh.ngmesh.Elements1D().NumPy()
-        seg = e1["nodes"][:, :2].astype(np.int64) - 1
-        surface = e1["index"] == self.index[SURFACE]
-        on_bed = surface & np.all(xy[seg, 1] <= tol, axis=1)
-        on_wall = surface & np.all(xy[seg, 0] <= tol, axis=1)
-        e1["index"][on_bed] = self.index[BED]
-        e1["index"][on_wall & ~on_bed] = self.index[WALL]
-        return int(on_bed.sum() + (on_wall & ~on_bed).sum())
-
-
-def landing_time(xy: np.ndarray, velocity: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Time for each vertex to reach Z = 0 or X = 0 moving at ``velocity`` (inf if never)."""
-    p, w = xy[vertices], velocity[vertices]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_bed = np.where(w[:, 1] < 0, p[:, 1] / -w[:, 1], np.inf)
-        t_wall = np.where(w[:, 0] < 0, p[:, 0] / -w[:, 0], np.inf)
-    return np.minimum(t_bed, t_wall)
 
 
 def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
