@@ -65,16 +65,21 @@ def _tension(trigger_deg: float, gamma0: float | str = 2.0) -> tuple[SurfaceTens
                           mesh_size=0.1), mesh
 
 
-def test_tension_is_applied_around_the_most_curved_node_once_triggered() -> None:
-    tension, mesh = _tension(trigger_deg=60)
+def _top_chain(mesh: ngs.Mesh) -> np.ndarray:
     xy = mesh.ngmesh.Coordinates()
     top = np.flatnonzero(np.isclose(xy[:, 1], 1.0))
-    chain = top[np.argsort(xy[top, 0])]         # wall to front: the domain on the right
-    xy[chain[2], 1] = 1.2                        # a sharp convex peak (turn > 60 deg)
+    return top[np.argsort(xy[top, 0])]         # wall to front: the domain on the right
+
+
+def test_tension_acts_around_the_most_concave_node_once_a_fold_begins() -> None:
+    tension, mesh = _tension(trigger_deg=60)
+    xy = mesh.ngmesh.Coordinates()
+    chain = _top_chain(mesh)
+    xy[chain[2], 1] = 0.8                        # a sharp concave notch (turn > 60 deg)
     tension.update([chain], lambda v: 100.0)
     gamma = tension.field.vec.FV().NumPy()
     assert tension.state.active and tension.state.critical_x == pytest.approx(xy[chain[2], 0])
-    assert gamma[chain[2]] < 0                      # convex: pulled in
+    assert gamma[chain[2]] > 0                      # concave: pushed out
     assert gamma[chain[2]] == pytest.approx(2.0 * curvature(xy[chain])[2])
     assert np.count_nonzero(gamma) <= 3             # delta = 2 nodes: i_c and its neighbours
     tension, _ = _tension(trigger_deg=120)
@@ -82,11 +87,20 @@ def test_tension_is_applied_around_the_most_curved_node_once_triggered() -> None
     assert not tension.state.active and not np.any(tension.field.vec.FV().NumPy())
 
 
+def test_a_convex_nose_does_not_trigger_the_tension() -> None:
+    """Over a rigid bed the overturning front is a convex nose, landed by deposition."""
+    tension, mesh = _tension(trigger_deg=60)
+    xy = mesh.ngmesh.Coordinates()
+    chain = _top_chain(mesh)
+    xy[chain[2], 1] = 1.2                        # a sharp convex peak
+    tension.update([chain], lambda v: 100.0)
+    assert not tension.state.active
+
+
 def test_auto_gamma0_is_pressure_under_the_surface_times_mesh_size() -> None:
     tension, mesh = _tension(trigger_deg=0, gamma0="auto")
     xy = mesh.ngmesh.Coordinates()
-    top = np.flatnonzero(np.isclose(xy[:, 1], 1.0))
-    chain = top[np.argsort(xy[top, 0])]
-    xy[chain[2], 1] = 1.01
+    chain = _top_chain(mesh)
+    xy[chain[2], 1] = 0.99
     tension.update([chain], lambda v: 300.0)
     assert tension.state.gamma0 == pytest.approx(30.0)
