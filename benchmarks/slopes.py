@@ -10,7 +10,8 @@ against slope. The erodible variants are the scenarios' columns standing on the 
 of `trapezoid-erodible` (h0 including the layer, the layer's end at `bed_length`), with its
 surface tension and mesh velocity; every run uses `boundary.normal_load = "reaction"` (the
 friction load whose sliding-block error is under 0.5 %); nothing else changes with slope.
-`geometry.bed_length` is raised with the slope so that the layer never ends under the flow.
+`geometry.bed_length` is 1.3 times the rigid-bed runout at the same slope (run the rigid
+beds first), so that the layer does not end under the flow.
 """
 
 from __future__ import annotations
@@ -32,9 +33,11 @@ COMMON = ["boundary.normal_load=reaction"]   # the basal friction decides the ru
 SCENARIO = {"trapezoid": "trapezoid-rigid", "rectangle": "rectangle-rigid"}
 
 
-def overrides(shape: str, bed: str, slope: float) -> list[str]:
+def overrides(shape: str, bed: str, slope: float, rigid_runout: float | None) -> list[str]:
+    """The layer ends 30 % beyond the rigid-bed runout at the same slope (when known)."""
+    length = max(1.0, 1.3 * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
     extra = [*COMMON, f"geometry.slope_deg={slope!r}", "time.t_end=3.0",
-             f"geometry.bed_length={1.0 + 0.05 * slope!r}"]
+             f"geometry.bed_length={length!r}"]
     if bed == "erodible":
         height = 0.25 if shape == "trapezoid" else 0.14
         extra += [*ERODIBLE, f"geometry.height={height + 0.005!r}"]
@@ -75,7 +78,8 @@ def main() -> None:
         for bed in args.beds:
             for slope in args.slopes:
                 name = f"{shape}-{bed}-{slope:g}"
-                config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope),
+                rigid = results.get(f"{shape}-rigid-{slope:g}", {}).get("runout_m")
+                config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope, rigid),
                                                        *args.extra])
                 run_dir = RunDir.create(args.out / "runs" / name)
                 run_dir.write_text("config.toml", config_to_toml(config))
