@@ -69,3 +69,20 @@ def test_remesh_merges_a_hairpin_of_overtaking_surface_nodes() -> None:
     ring = np.array([[i, (i + 1) % len(keep)] for i in range(len(keep))])
     assert not segments_intersect(pts[keep], ring)
     assert pts[6, 0] > pts[3, 0]             # node 6 had overtaken nodes 3 to 5
+
+
+def test_close_folds_cuts_the_pocket_where_the_front_touches_the_layer() -> None:
+    """A nose (vertex 6) come down within a hair of the layer's surface at vertex 3: the
+    pocket vertices between them (4, 5) go, the surface runs from the layer to the nose,
+    and the wall, bed and end are untouched."""
+    from granflow.ale.remesh import close_folds
+
+    pts = [(0.0, 0.0), (1.0, 0.0), (1.0, 0.01), (0.5, 0.01), (0.45, 0.05), (0.5, 0.1),
+           (0.49, 0.0101), (0.3, 0.2), (0.0, 0.2)]
+    labels = ["bed", "end", "surface", "surface", "surface", "surface", "surface",
+              "surface", "wall"]
+    new_pts, new_labels = close_folds(pts, labels)
+    assert new_pts == [pts[k] for k in (0, 1, 2, 3, 6, 7, 8)]
+    assert new_labels == ["bed", "end", "surface", "surface", "surface", "surface", "wall"]
+    assert close_folds(pts[:3] + pts[7:], labels[:3] + labels[7:]) == (
+        pts[:3] + pts[7:], labels[:3] + labels[7:])     # nothing folded: unchanged

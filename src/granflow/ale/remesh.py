@@ -19,6 +19,7 @@ from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
+FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
 
 
 def shape_quality(mesh: ngs.Mesh) -> np.ndarray:
@@ -70,6 +71,7 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None) -> ng
     keep = kept_boundary_vertices(xy[loop], labels, MIN_SURFACE_EDGE * size)
     points = [tuple(xy[loop[i]]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
+    points, edge_labels = close_folds(points, edge_labels)
     n = len(points)
     ring = np.array([[i, (i + 1) % n] for i in range(n)])
     if segments_intersect(np.array(points), ring):
@@ -85,6 +87,44 @@ def boundary_edge_sizes(points: Sequence[tuple[float, float]],
         return None
     pts = np.asarray(points, dtype=float)
     return [edge_size(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+
+
+def close_folds(points: list[tuple[float, float]], labels: list[str],
+                gap: float = FOLD_GAP) -> tuple[list[tuple[float, float]], list[str]]:
+    """Cut the pocket where the free surface has folded onto itself.
+
+    Where an inner surface vertex i has come closer than ``gap`` x its shortest adjacent
+    edge to a non-adjacent surface edge (over an erodible layer, the overturning front
+    touching down on the layer), the surface vertices between them (the fold's pocket,
+    the shorter way round) are dropped, so the surface runs from i straight to the far
+    end of that edge: the void closes and becomes material (the area correction of the
+    next move restores the area). This is what the surface tension of section 3.4 does
+    gradually; a remesh needs it done at once when the fold has already touched.
+    """
+    pts = np.asarray(points, dtype=float)
+    n = len(pts)
+    inner = [i for i in range(n) if labels[i - 1] == labels[i] == SURFACE]
+    for i in inner:
+        edge = min(np.linalg.norm(pts[i] - pts[i - 1]), np.linalg.norm(pts[(i + 1) % n] - pts[i]))
+        for j in range(n):
+            if labels[j] != SURFACE or i in (j, (j + 1) % n) or (i - 1) % n == j:
+                continue
+            a, b = pts[j], pts[(j + 1) % n]
+            d = b - a
+            s = float(np.clip(np.dot(pts[i] - a, d) / max(np.dot(d, d), 1e-300), 0, 1))
+            if np.linalg.norm(pts[i] - (a + s * d)) >= gap * edge:
+                continue
+            forward = (j - i) % n        # vertices i+1..j lie between i and the edge
+            backward = (i - j - 1) % n   # vertices j+1..i-1 lie between the edge and i
+            if forward <= backward:
+                drop = {(i + k) % n for k in range(1, forward + 1)}
+            else:
+                drop = {(j + k) % n for k in range(1, backward + 1)}
+            if any(labels[k - 1] != SURFACE or labels[k] != SURFACE for k in drop):
+                continue                  # never cut through a contact point or a wall
+            keep = [k for k in range(n) if k not in drop]
+            return close_folds([points[k] for k in keep], [labels[k] for k in keep], gap)
+    return points, labels
 
 
 def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) -> list[int]:
