@@ -51,15 +51,20 @@ def table(results: dict[str, dict]) -> str:
     for shape, slope in keys:
         rigid = results.get(f"{shape}-rigid-{slope:g}", {})
         ero = results.get(f"{shape}-erodible-{slope:g}", {})
-        ratio = (ero["runout_m"] / rigid["runout_m"]
-                 if ero.get("runout_m") and rigid.get("runout_m") else None)
+        ratio = (ero["runout_m"] / rigid["runout_m"] if ero.get("status") == "stopped"
+                 and ero.get("runout_m") and rigid.get("runout_m") else None)
 
-        def fmt(x: float | None, f: str = ".3f") -> str:
-            return "-" if x is None else format(x, f)
+        def fmt(run: dict, key: str) -> str:
+            if run.get("status") in ("failed", "unfinished"):
+                return f"{run['status']} at {run['t_final']:.3f} s"
+            x = run.get(key)
+            if x is None and key == "stop_time_s" and run:
+                return f"flowing at {run['t_final']:.2f} s"
+            return "-" if x is None else format(x, ".3f")
 
-        lines.append(f"| {shape} | {slope:g} | {fmt(rigid.get('runout_m'))} | "
-                     f"{fmt(ero.get('runout_m'))} | {fmt(ratio)} | "
-                     f"{fmt(rigid.get('stop_time_s'))} | {fmt(ero.get('stop_time_s'))} |")
+        lines.append(f"| {shape} | {slope:g} | {fmt(rigid, 'runout_m')} | "
+                     f"{fmt(ero, 'runout_m')} | {'-' if ratio is None else f'{ratio:.3f}'} | "
+                     f"{fmt(rigid, 'stop_time_s')} | {fmt(ero, 'stop_time_s')} |")
     return "\n".join(lines) + "\n"
 
 
