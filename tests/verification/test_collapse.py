@@ -18,11 +18,8 @@ COARSE = ["mesh.size=0.04", "time.dt=1e-3", "numerics.tol=1e-3", "time.output_ti
 
 
 @pytest.fixture(scope="module")
-def short_collapse():
-    problem = build_column(load_config("trapezoid-rigid", [*COARSE, "time.t_end=0.25"]))
-    area0 = problem.mover.area()
-    result = problem.simulation.run()
-    return problem, result, area0
+def short_collapse(run_short_column):
+    return run_short_column("trapezoid-rigid", [*COARSE, "time.t_end=0.25"])
 
 
 def test_short_collapse_completes_without_inversion(short_collapse) -> None:

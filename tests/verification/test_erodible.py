@@ -15,11 +15,8 @@ COARSE = ["mesh.size=0.05", "time.dt=1e-3", "numerics.tol=1e-3", "time.output_ti
 
 
 @pytest.fixture(scope="module")
-def short_erodible():
-    problem = build_column(load_config("trapezoid-erodible", [*COARSE, "time.t_end=0.03"]))
-    area0 = problem.mover.area()
-    result = problem.simulation.run()
-    return problem, result, area0
+def short_erodible(run_short_column):
+    return run_short_column("trapezoid-erodible", [*COARSE, "time.t_end=0.03"])
 
 
 def test_layer_is_resolved_by_the_requested_cells() -> None:
