@@ -1,7 +1,8 @@
 """The ``granflow`` command line (also ``python -m granflow``).
 
     granflow scenarios
-    granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--quiet]
+    granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
+    granflow resume RUN_DIR [--quiet]
     granflow verify plug-flow [--table 1|2] [--cells quick|all] [--out DIR] [--quiet]
 
 The configuration is loaded and validated before anything is created; an invalid one is
@@ -12,13 +13,16 @@ imported only by the command that needs them, so the CLI starts fast.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any, NoReturn
 
 from granflow import __version__
 from granflow.config import CUSTOM, ConfigError, config_to_toml, load_config
+from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios.registry import builtin_scenarios
 
@@ -32,7 +36,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         return args.command(args)
-    except (ConfigError, RunDirError) as err:
+    except (ConfigError, RunDirError, CheckpointError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -40,12 +44,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error (exit 2) instead of usage plus message."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"granflow: error: {message} (see `{self.prog} --help`)\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="granflow",
         description="2D viscoplastic granular flows (regularised Drucker-Prager, ALE, NGSolve).")
     parser.add_argument("--version", action="version", version=f"granflow {__version__}")
-    commands = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
+    commands = parser.add_subparsers(title="commands", metavar="COMMAND", required=True,
+                                     parser_class=_Parser)
 
     p = commands.add_parser("scenarios", help="list the built-in scenarios, one line each")
     p.set_defaults(command=_scenarios)
@@ -60,8 +72,21 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    help="override a configuration key, e.g. --set numerics.eps=1e-4 (repeatable)")
     p.add_argument("--out", type=Path, help="run directory (default: runs/<scenario>-<time>)")
+    p.add_argument("--force", action="store_true",
+                   help="replace the run already in --out (its files are deleted first)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_run)
+
+    p = commands.add_parser(
+        "resume", help="continue an interrupted, killed or failed run from its checkpoint",
+        description="Continue the run in RUN_DIR from checkpoint/state.pkl, with the "
+                    "configuration in RUN_DIR/config.toml.")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="change a key before continuing, e.g. --set time.dt_max=5e-4 after a "
+                        "failure (the step policy then restarts from the new configuration)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(command=_resume)
 
     p = commands.add_parser(
         "verify", help="recompute a verification case of the paper",
@@ -90,18 +115,56 @@ def _run(args: argparse.Namespace) -> int:
     from granflow.simulation.runner import run_simulation
 
     label = Path(args.scenario).stem if config.scenario == CUSTOM else config.scenario
-    run_dir = RunDir.create(args.out or _fresh_folder(label))
-    run_dir.write_text("config.toml", config_to_toml(config))
-    if not args.quiet:
-        print(f"granflow: running {label} into {run_dir.root}")
-    summary = run_simulation(config, run_dir, progress=config.output.progress and not args.quiet)
+    run_dir = RunDir.create(args.out if args.out is not None else _fresh_folder(label),
+                            force=args.force)
+    with run_dir.lock():
+        run_dir.write_text("config.toml", config_to_toml(config))
+        if not args.quiet:
+            print(f"granflow: running {label} into {run_dir.root}")
+        summary = run_simulation(config, run_dir,
+                                 progress=config.output.progress and not args.quiet)
+    return _report(summary, run_dir)
+
+
+def _resume(args: argparse.Namespace) -> int:
+    root = args.run_dir
+    if not RunDir.is_run_dir(root):
+        raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
+    status = _status(root)
+    if status in OK_STATUSES:
+        raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
+    config = load_config(str(root / "config.toml"), args.overrides)
+    from granflow.io.checkpoint import read_checkpoint
+    from granflow.simulation.runner import run_simulation
+
+    run_dir = RunDir(root)
+    with run_dir.lock():   # refuse before reading: the run may still be writing it
+        state = read_checkpoint(root)
+        if args.overrides:
+            state.loop["steps_policy"] = None    # rebuilt from the changed configuration
+            run_dir.write_text("config.toml", config_to_toml(config))
+        if not args.quiet:
+            print(f"granflow: resuming {root} at t = {state.t:.6g} s (step {state.step})")
+        summary = run_simulation(config, run_dir, resume=state,
+                                 progress=config.output.progress and not args.quiet)
+    return _report(summary, run_dir)
+
+
+def _status(root: Path) -> str | None:
+    try:
+        return json.loads((root / "summary.json").read_text()).get("status")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
     status = summary.get("status", "failed")
     print(f"{status}: t_final = {_num(summary.get('t_final'), '.6g')} s, "
           f"{summary.get('steps')} steps, wall time {_num(summary.get('wall_time_s'), '.1f')} s"
           f" -> {run_dir.root}")
     if status not in OK_STATUSES and summary.get("message"):
         print(f"granflow: {summary['message']}", file=sys.stderr)
-    return 0 if status in OK_STATUSES else 1
+    return 0 if status in OK_STATUSES else 130 if status == "interrupted" else 1
 
 
 def _verify(args: argparse.Namespace) -> int:

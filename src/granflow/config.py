@@ -171,11 +171,12 @@ class SurfaceTension(_Section):
     delta: Positive  # extent of the tension around the tip, in surface nodes (3.11)
     gamma0: Literal["auto"] | NonNegative  # gamma0-bar of (3.11)
     trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
+    release_angle_deg: Annotated[float, Field(ge=0, le=180)]  # stays on while it turns >=
 
 
 class Output(_Section):
     vtk_every: Annotated[int, Field(ge=0)]  # 0 = only at output_times
-    checkpoint_every: Annotated[int, Field(ge=0)]  # 0 = never
+    checkpoint_every: Annotated[int, Field(ge=0)]  # 0 = only when interrupted or failed
     progress: bool
 
 
@@ -251,6 +252,10 @@ def _problems(c: Config) -> Iterator[str]:
         if g.shape == "trapezoid" and run >= g.width:
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
+    st = c.surface_tension
+    if st.release_angle_deg > st.trigger_angle_deg:
+        yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
+               f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
     not_yet = {
         "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
     }

@@ -88,7 +88,7 @@ def test_file_inherits_from_a_builtin_and_set_overrides_the_file(tmp_path: Path)
     assert config.time.t_end == 0.08  # --set beats the file
     assert config.time.output_times == [0.05]  # the file beats the scenario
     assert config.time.dt == 3.12e-3  # the scenario beats the defaults
-    assert config.output.checkpoint_every == 0  # package default
+    assert config.output.checkpoint_every == 100  # package default
 
 
 def test_file_without_scenario_starts_from_the_package_defaults(tmp_path: Path) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import subprocess
 import sys
 import textwrap
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import CsvLog, RunDir, RunDirError
+from granflow.io.run_dir import LOCK_FILE, CsvLog, RunDir, RunDirError
 
 
 def read_csv(path: Path) -> list[list[str]]:
@@ -34,12 +35,58 @@ def test_create_makes_nested_folders(tmp_path: Path) -> None:
     assert run.root.is_dir()
 
 
-def test_create_accepts_an_empty_folder_and_a_previous_run(tmp_path: Path) -> None:
+def test_create_accepts_an_empty_folder_and_replaces_a_previous_run_only_with_force(
+        tmp_path: Path) -> None:
     RunDir.create(tmp_path)  # empty
     run = RunDir.create(tmp_path / "run")
     run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    run.write_text("profiles/old.csv", "x\n")
     assert RunDir.is_run_dir(run.root)
-    RunDir.create(run.root)
+    with pytest.raises(RunDirError, match="already holds a run; use --force"):
+        RunDir.create(run.root)
+    assert (run.root / "profiles/old.csv").exists()
+    RunDir.create(run.root, force=True)      # cleared: old and new files never mix
+    assert files_in(run.root) == [LOCK_FILE] or files_in(run.root) == []
+
+
+def test_an_empty_or_unwritable_out_is_an_error(tmp_path: Path) -> None:
+    with pytest.raises(RunDirError, match="empty path"):
+        RunDir.create(Path(""))
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(RunDirError, match="cannot use output folder"):
+        RunDir.create(tmp_path / "file" / "run")          # a parent that is a file
+    locked = tmp_path / "ro"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if not os.access(locked, os.W_OK):                # root ignores permissions
+            with pytest.raises(RunDirError, match="cannot use output folder"):
+                RunDir.create(locked / "run")
+    finally:
+        locked.chmod(0o700)
+
+
+def test_a_second_writer_is_refused_while_the_first_holds_the_lock(tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path / "run")
+    script = textwrap.dedent(f"""
+        from granflow.io.run_dir import RunDir, RunDirError
+        try:
+            with RunDir({str(run.root)!r}).lock():
+                print("acquired")
+        except RunDirError as err:
+            print("refused:", err)
+    """)
+    run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    with run.lock():
+        out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                             timeout=60).stdout
+        assert out.startswith("refused:") and "in use by another granflow process" in out
+        with pytest.raises(RunDirError, match="in use"):   # --force must not clear it either
+            RunDir.create(run.root, force=True)
+    assert (run.root / "config.toml").exists()
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         timeout=60).stdout
+    assert out.startswith("acquired")
 
 
 def test_create_refuses_a_foreign_non_empty_folder_or_a_file(tmp_path: Path) -> None:

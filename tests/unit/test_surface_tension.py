@@ -57,12 +57,13 @@ def test_profile_is_one_at_the_critical_node_and_vanishes_beyond_delta() -> None
     assert np.all(np.diff(w[:31]) >= 0) and np.all(np.diff(w[30:]) <= 0)
 
 
-def _tension(trigger_deg: float, gamma0: float | str = 2.0) -> tuple[SurfaceTension, ngs.Mesh]:
+def _tension(trigger_deg: float, gamma0: float | str = 2.0,
+             release_deg: float | None = None) -> tuple[SurfaceTension, ngs.Mesh]:
     mesh = polygon_mesh([(0, 0), (1, 0), (1, 1), (0, 1)], ["bed", "wall", "surface", "wall"],
                         0.25)
     field = ngs.GridFunction(ngs.H1(mesh, order=1))
     return SurfaceTension(field, delta=2, gamma0=gamma0, trigger_angle_deg=trigger_deg,
-                          mesh_size=0.1), mesh
+                          mesh_size=0.1, release_angle_deg=release_deg), mesh
 
 
 def _top_chain(mesh: ngs.Mesh) -> np.ndarray:
@@ -85,6 +86,19 @@ def test_tension_acts_around_the_most_concave_node_once_a_fold_begins() -> None:
     tension, _ = _tension(trigger_deg=120)
     tension.update([chain], lambda v: 100.0)
     assert not tension.state.active and not np.any(tension.field.vec.FV().NumPy())
+
+
+def test_once_on_the_tension_stays_on_until_the_fold_is_below_the_release_angle() -> None:
+    """Hysteresis: on at a turn >= 90 deg, off only below 45 deg (no toggling near rest)."""
+    tension, mesh = _tension(trigger_deg=90, release_deg=45)
+    xy = mesh.ngmesh.Coordinates()
+    chain = _top_chain(mesh)
+    states = []
+    for depth in (0.15, 0.3, 0.15, 0.05, 0.15):   # concave turns 62, 100, 62, 23, 62 deg
+        xy[chain[2], 1] = 1.0 - depth
+        tension.update([chain], lambda v: 100.0)
+        states.append(tension.state.active)
+    assert states == [False, True, True, False, False]
 
 
 def test_a_convex_nose_does_not_trigger_the_tension() -> None:

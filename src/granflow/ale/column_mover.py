@@ -13,6 +13,8 @@ are kept exactly on them. After each move the numerical surface tension of secti
 
 from __future__ import annotations
 
+import copy
+
 import ngsolve as ngs
 import numpy as np
 
@@ -64,6 +66,19 @@ class ColumnMover(AleMover):
         self.velocity_solves = other.velocity_solves
         if self.tension is not None and other.tension is not None:
             self.tension.state = other.tension.state
+
+    def save_state(self) -> dict[str, object]:
+        """Reference area, counters and the surface-tension switch (for a checkpoint)."""
+        return {"initial_area": self.initial_area,
+                "relabelled_segments": self.relabelled_segments,
+                "limited_steps": self.limited_steps, "velocity_solves": self.velocity_solves,
+                "tension": copy.deepcopy(self.tension.state) if self.tension else None}
+
+    def restore_state(self, state: dict[str, object]) -> None:
+        for key in ("initial_area", "relabelled_segments", "limited_steps", "velocity_solves"):
+            setattr(self, key, state[key])
+        if self.tension is not None and state["tension"] is not None:
+            self.tension.state = copy.deepcopy(state["tension"])  # type: ignore[assignment]
 
     def prepare(self, dt: float) -> float:
         """w for this step, and dt shortened so that no boundary node crosses bed or wall.

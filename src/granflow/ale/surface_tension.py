@@ -12,7 +12,12 @@ the surface times the mesh size.
 When it acts (the paper gives no rule): at a step where the surface turns by at least
 ``trigger_angle_deg`` at a concave node (delta theta >= trigger; default 90 deg: the
 surface turns back past the perpendicular into the domain, which is where a fold begins;
-0 = at every step). i_c is the node of largest curvature C, signed as in (3.10), as the
+0 = at every step). Once on it stays on while the largest concave turn is at least
+``release_angle_deg`` (hysteresis; default 45 deg): with a single threshold the tension
+straightened a fold just below 90 deg, switched off, the fold came back, and near rest the
+tension toggled every few steps, each switch a jump in the surface traction that the
+step-error control answered with dt ~ 1e-5 s (the rectangle over the layer crawled at
+t = 0.58 s). i_c is the node of largest curvature C, signed as in (3.10), as the
 paper says: the most concave node, i.e. the fold. A convex nose is left alone: over a
 rigid bed the overturning front is a convex nose that deposition (Figure 2) lands on the
 bed, and taking |C| there put the tension on that nose at every step and shortened the
@@ -76,11 +81,14 @@ class SurfaceTension:
     """
 
     def __init__(self, field: ngs.GridFunction, delta: float, gamma0: float | str,
-                 trigger_angle_deg: float, mesh_size: float) -> None:
+                 trigger_angle_deg: float, mesh_size: float,
+                 release_angle_deg: float | None = None) -> None:
         self.field = field
         self.delta = delta
         self.gamma0 = gamma0
         self.trigger = np.radians(trigger_angle_deg)
+        release = trigger_angle_deg if release_angle_deg is None else release_angle_deg
+        self.release = np.radians(min(release, trigger_angle_deg))
         self.mesh_size = mesh_size
         self.state = TensionState()
 
@@ -97,12 +105,13 @@ class SurfaceTension:
         values[:] = 0.0
         xy = self.field.space.mesh.ngmesh.Coordinates()
         chains = [c for c in chains if len(c) >= 3]
+        threshold = self.release if self.state.active else self.trigger
         self.state.active = False
         if not chains:
             return
         turns = np.concatenate([turning_angles(xy[c]) for c in chains])
         self.state.max_turn_deg = float(np.degrees(turns.max()))
-        if turns.max() < self.trigger:
+        if turns.max() < threshold:
             return
         curv = [curvature(xy[c]) for c in chains]
         k = int(np.argmax([c.max() for c in curv]))

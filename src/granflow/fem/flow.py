@@ -152,6 +152,19 @@ class FlowSolver:
     def reject(self) -> None:
         self.solution.vec.data = self.previous.vec
 
+    def save_history(self) -> dict[str, object]:
+        """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads."""
+        return {"previous": self.previous.vec.FV().NumPy().copy(),
+                "before_previous": self.before_previous.vec.FV().NumPy().copy(),
+                "dt_previous": self.dt_previous}
+
+    def restore_history(self, state: dict[str, object]) -> None:
+        """Inverse of ``save_history`` on a solver built on the same mesh."""
+        self.previous.vec.FV().NumPy()[:] = state["previous"]
+        self.before_previous.vec.FV().NumPy()[:] = state["before_previous"]
+        self.dt_previous = float(state["dt_previous"])  # type: ignore[arg-type]
+        self.solution.vec.data = self.previous.vec
+
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:
         return ngs.Integrate(ngs.CF(1.0), self.mesh)

@@ -15,16 +15,20 @@ import io
 import json
 import math
 import os
+import shutil
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TextIO
+
+from filelock import FileLock, Timeout
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_write_bytes"]
 
 # A folder is a granflow run directory if its config.toml starts with this line prefix.
 RUN_MARKER_FILE = "config.toml"
 RUN_MARKER_PREFIX = "# granflow"
+LOCK_FILE = ".granflow.lock"   # held (flock) by the process writing into the folder
 
 
 class RunDirError(Exception):
@@ -75,19 +79,69 @@ class RunDir:
 
     def __init__(self, root: Path) -> None:
         self.root = Path(root)
+        self._lock: FileLock | None = None
 
     @classmethod
-    def create(cls, path: Path) -> RunDir:
-        """Create the folder (and parents). An existing folder is accepted only if it is
-        empty or already a granflow run directory, so no unrelated files get mixed in."""
+    def create(cls, path: Path, force: bool = False) -> RunDir:
+        """Create the folder (and parents) for a new run.
+
+        An existing folder is accepted if it is empty. One that already holds a run is
+        refused unless ``force``, which clears it first (under the lock, so old and new
+        files never mix); a foreign non-empty folder is always refused.
+        """
         path = Path(path)
-        if path.exists() and not path.is_dir():
-            raise RunDirError(f"output path '{path}' exists and is not a folder")
-        if path.is_dir() and any(path.iterdir()) and not cls.is_run_dir(path):
-            raise RunDirError(f"output folder '{path}' is not empty and is not a granflow run "
-                              "directory; choose another --out")
-        path.mkdir(parents=True, exist_ok=True)
+        if str(path).strip() == "" or path == Path("."):
+            raise RunDirError("--out must name a folder for the run (got an empty path)")
+        try:
+            if path.exists() and not path.is_dir():
+                raise RunDirError(f"output path '{path}' exists and is not a folder")
+            if path.is_dir() and any(p.name != LOCK_FILE for p in path.iterdir()):
+                if not cls.is_run_dir(path):
+                    raise RunDirError(f"output folder '{path}' is not empty and is not a "
+                                      "granflow run directory; choose another --out")
+                if not force:
+                    raise RunDirError(f"output folder '{path}' already holds a run; use --force "
+                                      f"to replace it, or `granflow resume {path}` to continue it")
+                run = cls(path)
+                with run.lock():
+                    run._clear()
+                return run
+            path.mkdir(parents=True, exist_ok=True)
+            probe = path / f".{LOCK_FILE}.probe"
+            probe.write_bytes(b"")          # writable? (a read-only folder fails here)
+            probe.unlink()
+        except OSError as err:
+            raise RunDirError(f"cannot use output folder '{path}': {err.strerror or err}") from None
         return cls(path)
+
+    def _clear(self) -> None:
+        """Delete everything in the folder except the lock file."""
+        for entry in self.root.iterdir():
+            if entry.name == LOCK_FILE:
+                continue
+            if entry.is_dir() and not entry.is_symlink():
+                shutil.rmtree(entry)
+            else:
+                entry.unlink()
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold the folder's lock: a second process writing into it is refused at once.
+
+        An OS file lock (``filelock``): the kernel releases it when the holder dies, so a
+        killed run leaves no stale lock. Re-entrant within one process.
+        """
+        if self._lock is None:
+            self._lock = FileLock(self.root / LOCK_FILE, timeout=0)
+        try:
+            self._lock.acquire()
+        except Timeout:
+            raise RunDirError(f"run directory '{self.root}' is in use by another granflow "
+                              "process; wait for it to end or choose another --out") from None
+        try:
+            yield
+        finally:
+            self._lock.release()
 
     @staticmethod
     def is_run_dir(path: Path) -> bool:

@@ -4,6 +4,8 @@ free-surface treatments (``ale/``) and the loop."""
 
 from __future__ import annotations
 
+import copy
+import pickle
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -83,6 +85,28 @@ class ColumnCollapse:
         self.simulation.replace(solver, mover)
         self.remeshes += 1
         self.fresh_quality = float(shape_quality(mesh).min())
+
+    # --- checkpoint (simulation/state.py) ---------------------------------------------
+    def save_state(self) -> dict[str, Any]:
+        """The scenario's share of the run state: the mesh (pickled with its boundary
+        labels, which deposition changes), the flow history, the mover, the diagnostics
+        history and the animation frames."""
+        return {"mesh": pickle.dumps(self.mesh), "fields": self.solver.save_history(),
+                "mover": self.mover.save_state(), "history": copy.deepcopy(self.history),
+                "frames": list(self.frames), "remeshes": self.remeshes,
+                "fresh_quality": self.fresh_quality}
+
+    def restore_state(self, state: dict[str, Any]) -> None:
+        """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
+        mesh = pickle.loads(state["mesh"])
+        solver, mover = _flow_and_motion(self.config, mesh)
+        solver.restore_history(state["fields"])
+        mover.restore_state(state["mover"])
+        self.mesh, self.solver, self.mover = mesh, solver, mover
+        self.simulation.replace(solver, mover)
+        self.history = copy.deepcopy(state["history"])
+        self.frames = list(state["frames"])
+        self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
 
     # --- observers' side ---------------------------------------------------------------
     def front(self) -> float:
@@ -267,7 +291,8 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
                         initial_guess=num.initial_guess,
                         surface_tension_on=SURFACE if st.enabled else None)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
-                              st.trigger_angle_deg, config.mesh.size) if st.enabled else None)
+                              st.trigger_angle_deg, config.mesh.size,
+                              st.release_angle_deg) if st.enabled else None)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])

@@ -48,6 +48,16 @@ class PlugFlow:
         ref = self.reference(t)
         return velocity_relative_error_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
 
+    def save_state(self) -> dict[str, Any]:
+        """The flow history and the vertex positions (the vertical mesh motion moves them;
+        the periodic mesh's topology never changes)."""
+        return {"fields": self.solver.save_history(),
+                "coordinates": self.mesh.ngmesh.Coordinates().copy()}
+
+    def restore_state(self, state: dict[str, Any]) -> None:
+        self.mesh.ngmesh.Coordinates()[:] = state["coordinates"]
+        self.solver.restore_history(state["fields"])
+
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
         return {}
 

@@ -49,8 +49,9 @@ class EveryNSteps:
 class ProgressBar:
     """A tqdm bar over simulated time showing dt, iterations and an ETA."""
 
-    def __init__(self, t_end: float, enabled: bool = True) -> None:
-        self.bar = tqdm(total=t_end, unit="s", disable=not enabled, dynamic_ncols=True,
+    def __init__(self, t_end: float, enabled: bool = True, initial: float = 0.0) -> None:
+        self.bar = tqdm(total=t_end, initial=initial, unit="s", disable=not enabled,
+                        dynamic_ncols=True,
                         bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}<{remaining}]"
                         "{postfix}")
 

@@ -30,6 +30,14 @@ class RestCriterion:
     moved: bool = False
     rest_since: float | None = field(default=None)
 
+    def save_state(self) -> dict[str, object]:
+        return {"moved": self.moved, "rest_since": self.rest_since}
+
+    def restore_state(self, state: dict[str, object]) -> None:
+        self.moved = bool(state["moved"])
+        rest_since = state["rest_since"]
+        self.rest_since = None if rest_since is None else float(rest_since)  # type: ignore[arg-type]
+
     def __call__(self, sim: Simulation) -> str | None:
         if self.flowing_fraction() > self.fraction:
             self.moved, self.rest_since = True, None

@@ -1,14 +1,20 @@
 """Runs a configured scenario into a run directory (DESIGN.md, "A run directory contains").
 
 The runner wires observers (diagnostics rows, profiles at output times, VTU snapshots, a
-progress bar) around a scenario's time loop and writes ``summary.json`` at the end, also
-when the run fails: whatever was written before stays readable.
+progress bar, checkpoints) around a scenario's time loop, writes ``summary.json`` at the
+start (``running``) and at the end, also when the run fails or is interrupted: whatever was
+written before stays readable, and ``granflow resume`` continues from the checkpoint.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
+import threading
 import traceback
+from collections.abc import Iterator
+from pathlib import Path
 from typing import Any, Protocol
 
 import ngsolve as ngs
@@ -18,10 +24,12 @@ from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED, state_measures
 from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
-from granflow.io.run_dir import RunDir
+from granflow.io.checkpoint import write_checkpoint
+from granflow.io.run_dir import RunDir, atomic_write_bytes
 from granflow.io.vtk import VtkSeries
 from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.state import SimulationState
 
 DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
                       "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
@@ -41,6 +49,8 @@ class Problem(Protocol):
     def write_profiles(self, run_dir: RunDir, t: float) -> None: ...
     def summary(self, result: RunResult) -> dict[str, Any]: ...
     def plot(self, run_dir: RunDir) -> None: ...
+    def save_state(self) -> dict[str, Any]: ...
+    def restore_state(self, state: dict[str, Any]) -> None: ...
 
 
 def build_problem(config: Config) -> Problem:
@@ -69,17 +79,57 @@ def write_fields(series: VtkSeries, problem: Problem, t: float) -> None:
                    "effective_viscosity": cell_means(mesh, solver.effective_viscosity())[0]})
 
 
-def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> dict[str, Any]:
-    """Run ``config`` into ``run_dir``; return the summary (also written as summary.json)."""
-    problem = build_problem(config)
+def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
+                   resume: SimulationState | None = None) -> dict[str, Any]:
+    """Run ``config`` into ``run_dir`` (or continue ``resume``, a checkpointed state of it);
+    return the summary, also written as summary.json.
+
+    The folder is locked for the whole run. summary.json says ``running`` from the start;
+    SIGINT and SIGTERM end the run after the current step with ``interrupted`` and a
+    checkpoint; a failing run checkpoints its last accepted state. Errors while the problem
+    is built are a ``failed`` summary too, never an escaping exception.
+    """
+    with run_dir.lock():
+        return _run_locked(config, run_dir, progress, resume)
+
+
+def _summary_head(config: Config, status: str, message: str) -> dict[str, Any]:
+    return {"scenario": config.scenario, "status": status, "message": message}
+
+
+def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[str, Any]:
+    run_dir.write_text("traceback.txt", traceback.format_exc())
+    summary = _summary_head(config, "failed", f"{type(exc).__name__} while {when}: {exc}")
+    run_dir.write_json("summary.json", summary)
+    return summary
+
+
+def _run_locked(config: Config, run_dir: RunDir, progress: bool,
+                resume: SimulationState | None) -> dict[str, Any]:
+    started = "resumed" if resume else "started"
+    run_dir.write_json("summary.json", _summary_head(
+        config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
+    try:
+        problem = build_problem(config)
+        if resume is not None:
+            problem.restore_state(resume.scenario)
+            problem.simulation.restore_state(resume.loop)
+    except Exception as exc:  # a failure to build is a result, with the traceback kept
+        return _failed(config, run_dir, exc, "building the problem")
     sim = problem.simulation
-    volume0 = state_measures(problem.mesh, problem.solver.velocity,
-                             problem.solver.density)["volume"]
-    log = run_dir.csv_log("diagnostics.csv", DIAGNOSTIC_COLUMNS)
+    outputs = resume.outputs if resume is not None else {}
+    volume0 = outputs.get("volume0") or state_measures(
+        problem.mesh, problem.solver.velocity, problem.solver.density)["volume"]
+    if resume is not None:
+        _truncate_rows(run_dir.path("diagnostics.csv"), outputs["diagnostic_rows"])
+    log = run_dir.csv_log("diagnostics.csv", DIAGNOSTIC_COLUMNS, resume=resume is not None)
+    rows = outputs.get("diagnostic_rows", 0)
     series = VtkSeries(run_dir.path("fields"))
-    bar = ProgressBar(config.time.t_end, enabled=progress)
+    series.entries = list(outputs.get("vtk_entries", []))
+    bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
 
     def record(s: Simulation) -> None:
+        nonlocal rows
         report, estimate = s.last_report, s.last_estimate
         row = {"t": s.t, "dt": s.dt, "iterations": report.iterations,
                "linear_solves": report.linear_solves,
@@ -89,27 +139,48 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
         row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
                               speed)
         log.write([row.get(c, math.nan) for c in DIAGNOSTIC_COLUMNS])
+        rows += 1
         problem.record(row)
 
-    def outputs(s: Simulation, t: float) -> None:
+    def outputs_at(s: Simulation, t: float) -> None:
         problem.write_profiles(run_dir, t)
         write_fields(series, problem, t)
 
-    at_times = AtTimes(config.time.output_times, outputs)
+    at_times = AtTimes(config.time.output_times, outputs_at)
+    if resume is not None:   # those still ahead (the configuration may have changed them)
+        at_times.pending = [x for x in config.time.output_times
+                            if x > sim.t + 1e-9 * max(1.0, x)]
     observers = [record, bar, at_times,
                  EveryNSteps(config.output.vtk_every, lambda s: write_fields(series, problem, s.t))]
     snapshot = getattr(problem, "snapshot", None)
-    if snapshot is not None:
-        observers.append(TimeInterval(ANIMATION_INTERVAL_S, snapshot))
+    animation = TimeInterval(ANIMATION_INTERVAL_S, snapshot) if snapshot is not None else None
+    if animation is not None:
+        animation.next = outputs.get("animation_next", animation.next)
+        observers.append(animation)
     sim.observers = [*sim.observers, *observers]
-    write_fields(series, problem, 0.0)
+
+    def checkpoint(s: Simulation) -> None:
+        write_checkpoint(run_dir, SimulationState(
+            loop=s.save_state(), scenario=problem.save_state(),
+            outputs={"volume0": volume0, "diagnostic_rows": rows,
+                     "pending_times": list(at_times.pending),
+                     "vtk_entries": list(series.entries),
+                     "animation_next": animation.next if animation is not None else None}))
+
+    sim.checkpoint, sim.checkpoint_every = checkpoint, config.output.checkpoint_every
+    if resume is None:
+        write_fields(series, problem, 0.0)
     try:
-        result = sim.run()
+        with _interrupts_to(sim):
+            result = sim.run()
+        if result.status in ("interrupted", "failed"):
+            checkpoint(sim)        # the last accepted state: `granflow resume` goes on
+            result.message += f"; continue with `granflow resume {run_dir.root}`"
     except Exception as exc:  # keep what was written; report instead of crashing
         result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
                            f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
                            sim.nonlinear_iterations, sim.linear_solves,
-                           sim.unconverged_steps, math.nan, dict(sim.rejections))
+                           sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
         run_dir.write_text("traceback.txt", traceback.format_exc())
     finally:
         bar.close()
@@ -117,10 +188,7 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
     at_rest = at_times.flush(sim) if result.status == "stopped" else []
     solver = problem.solver
     volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
-    summary: dict[str, Any] = {
-        "scenario": config.scenario,
-        "status": result.status,
-        "message": result.message,
+    summary: dict[str, Any] = _summary_head(config, result.status, result.message) | {
         "t_final": result.t_final,
         "steps": result.steps,
         "rejected_steps": result.rejected_steps,
@@ -135,6 +203,7 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
         "volume_relative_error": abs(volume - volume0) / volume0,
         "n_triangles": problem.mesh.ne,
         "n_dofs": solver.space.ndof,
+        "resumed": resume is not None,
     }
     summary |= problem.summary(result)
     run_dir.write_json("summary.json", summary)
@@ -143,3 +212,31 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True) -> di
     except Exception as exc:  # a figure must never turn a finished run into a failure
         run_dir.write_text("plots/error.txt", f"{type(exc).__name__}: {exc}\n")
     return summary
+
+
+@contextlib.contextmanager
+def _interrupts_to(sim: Simulation) -> Iterator[None]:
+    """SIGINT and SIGTERM ask the loop to stop after the current step (main thread only:
+    elsewhere, e.g. in a Dask worker, signals stay with their owner)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum: int, frame: object) -> None:
+        sim.interrupt = f"{signal.Signals(signum).name} received"
+
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+def _truncate_rows(path: Path, rows: int) -> None:
+    """Keep the header and the first ``rows`` rows of a CSV log (those the checkpoint has
+    seen): rows written after it by the killed run are replayed by the resumed one."""
+    if not path.is_file():
+        return
+    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    atomic_write_bytes(path, "".join(lines[:rows + 1]).encode("utf-8"))

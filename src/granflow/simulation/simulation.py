@@ -12,11 +12,12 @@ make the fixed-point iteration (3.2) cycle instead of converge (issue 13).
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Protocol
+from typing import Any, Protocol
 
 from granflow.ale.mesh_motion import MoveFailure
 from granflow.fem.flow import FlowSolver
@@ -60,7 +61,7 @@ StopCriterion = Callable[["Simulation"], str | None]
 class RunResult:
     """Why and where the loop stopped, and what it cost."""
 
-    status: str                      # completed | stopped | failed
+    status: str                      # completed | stopped | interrupted | failed
     message: str
     t_final: float
     steps: int
@@ -106,6 +107,11 @@ class Simulation:
     unconverged_steps: int = 0
     remeshed_this_step: bool = False
     rejections: dict[str, int] = field(default_factory=dict)
+    checkpoint: Observer | None = None   # called after a step once its stop test passed
+    checkpoint_every: int = 0
+    interrupt: str | None = None         # set (by a signal handler) to end the run cleanly
+    elapsed_before: float = 0.0          # s of wall time spent before a resume
+    _start: float = field(default=0.0, repr=False)
     _rejections_in_row: int = field(default=0, repr=False)
     _remesh_error: str = field(default="", repr=False)
 
@@ -117,6 +123,39 @@ class Simulation:
     def linear_solves(self) -> int:
         """Momentum solves (every solve with a factorised matrix) plus mesh-velocity solves."""
         return self.momentum_solves + getattr(self.mesh_motion, "velocity_solves", 0)
+
+    # --- checkpoint (simulation/state.py) ------------------------------------------------
+    def save_state(self) -> dict[str, Any]:
+        """The loop's share of the run state: time, step, counters, policy, criteria."""
+        return {
+            "t": self.t, "step": self.step, "dt": self.dt,
+            "rejected_steps": self.rejected_steps,
+            "nonlinear_iterations": self.nonlinear_iterations,
+            "momentum_solves": self.momentum_solves,
+            "unconverged_steps": self.unconverged_steps,
+            "rejections": dict(self.rejections),
+            "wall_time_s": self.wall_time(),
+            "steps_policy": copy.deepcopy(self.steps_policy),
+            "stop_criteria": [c.save_state() if hasattr(c, "save_state") else None
+                              for c in self.stop_criteria],
+        }
+
+    def restore_state(self, state: dict[str, Any]) -> None:
+        for key in ("t", "step", "dt", "rejected_steps", "nonlinear_iterations",
+                    "momentum_solves", "unconverged_steps"):
+            setattr(self, key, state[key])
+        self.rejections = dict(state["rejections"])
+        self.elapsed_before = state["wall_time_s"]
+        if state["steps_policy"] is not None:   # None: keep the policy of a changed config
+            self.steps_policy = state["steps_policy"]
+        for criterion, saved in zip(self.stop_criteria, state["stop_criteria"], strict=True):
+            if saved is not None:
+                criterion.restore_state(saved)  # type: ignore[attr-defined]
+
+    def wall_time(self) -> float:
+        """Wall time of the run so far, over all its sessions (resumes)."""
+        running = time.perf_counter() - self._start if self._start else 0.0
+        return self.elapsed_before + running
 
     def _attempt(self, dt: float, tol: float) -> _Attempt:
         """One try at a step of size dt (shortened by the mesh motion if it must)."""
@@ -191,9 +230,13 @@ class Simulation:
         return f"Try a smaller {step_key} or mesh.size"
 
     def run(self) -> RunResult:
-        start = time.perf_counter()
+        self._start = time.perf_counter()
         status, message = "completed", f"reached t_end = {self.t_end:g} s"
         while self.t < self.t_end - 1e-12 * max(1.0, self.t_end):
+            if self.interrupt is not None:
+                status, message = "interrupted", (
+                    f"{self.interrupt} at t = {self.t:.6g} s after step {self.step}")
+                break
             dt, tol = self.steps_policy.propose(self.t)
             self.attempted_dt = dt
             try:
@@ -213,12 +256,17 @@ class Simulation:
             if reason is not None:
                 status, message = "stopped", reason
                 break
+            if (self.checkpoint is not None and self.checkpoint_every > 0
+                    and self.step % self.checkpoint_every == 0):
+                self.checkpoint(self)
+        wall = self.elapsed_before = self.wall_time()
+        self._start = 0.0
         return RunResult(
             status=status, message=message, t_final=self.t, steps=self.step,
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
             linear_solves=self.linear_solves, unconverged_steps=self.unconverged_steps,
-            wall_time_s=time.perf_counter() - start, rejections=dict(self.rejections))
+            wall_time_s=wall, rejections=dict(self.rejections))
 
     def _accept(self, attempt: _Attempt) -> None:
         self._rejections_in_row = 0
