@@ -13,7 +13,7 @@ import json
 from pathlib import Path
 
 from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import RunDir
+from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
@@ -28,12 +28,12 @@ def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path)
     results = {}
     for name in scenarios:
         config = load_config(name, overrides)
-        run_dir = RunDir.create(out / tag / name)
+        run_dir = RunDir.create(out / tag / name, force=True)
         run_dir.write_text("config.toml", config_to_toml(config))
         summary = run_simulation(config, run_dir, progress=False)
         results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
         print(tag, name, json.dumps(results[name], indent=1), flush=True)
-    (out / f"{tag}.json").write_text(json.dumps(results, indent=2))
+    atomic_write_text(out / f"{tag}.json", json.dumps(results, indent=2))
     return results
 
 

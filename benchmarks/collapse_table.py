@@ -18,6 +18,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from granflow.io.run_dir import atomic_file, atomic_write_text
+
 OUT = Path("benchmarks/results/collapse")
 COLUMNS = ["status", "stop_time_s", "front_stop_time_s", "front_settle_time_s", "runout_m",
            "wall_height_m",
@@ -48,8 +50,8 @@ def main() -> None:
             f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in head) + " |")
     table = "\n".join(lines)
     print(table)
-    (OUT / "table.md").write_text(table + "\n")
-    (OUT / "comparison.json").write_text(json.dumps(rows, indent=2))
+    atomic_write_text(OUT / "table.md", table + "\n")
+    atomic_write_text(OUT / "comparison.json", json.dumps(rows, indent=2))
     pairs = [("s52-elastic", "s52-lagrange", "default mesh"),
              ("s52-elastic-fine", "s52-lagrange-fine", "half mesh size")]
     shapes = {"trapezoid-rigid": [0.18, 0.3, 0.48, 0.66, 0.78, 1.02],
@@ -71,7 +73,13 @@ def main() -> None:
                    xlabel="X (m)", ylabel="Z (m)")
     axes[0][0].legend(fontsize=7)
     (OUT / "figures").mkdir(exist_ok=True)
-    fig.savefig(OUT / "figures" / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
+    _save(fig, OUT / "figures" / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
+
+
+def _save(fig: object, path: Path, **kwargs: object) -> None:
+    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
+    with atomic_file(path) as tmp:
+        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
 
 
 if __name__ == "__main__":

@@ -21,7 +21,7 @@ import numpy as np
 
 from granflow.config import config_to_toml, load_config
 from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import RunDir
+from granflow.io.run_dir import RunDir, atomic_file, atomic_write_text
 from granflow.simulation.runner import run_simulation
 
 VARIANTS: dict[str, tuple[str, list[str], str | None]] = {
@@ -75,7 +75,7 @@ def main() -> None:
         run = args.out / "runs" / name
         if args.rerun or not (run / "summary.json").exists():
             config = load_config(scenario, overrides)
-            run_dir = RunDir.create(run)
+            run_dir = RunDir.create(run, force=True)
             run_dir.write_text("config.toml", config_to_toml(config))
             run_simulation(config, run_dir, progress=False)
         summary = json.loads((run / "summary.json").read_text())
@@ -90,7 +90,7 @@ def main() -> None:
             row["surface_vs_" + ref + "_mm"] = {
                 f"{t:g}": [round(1e3 * x, 3) for x in surface_distance(a[t], b[t])]
                 for t in TIMES if t in a and t in b}
-    store.write_text(json.dumps(results, indent=2))
+    atomic_write_text(store, json.dumps(results, indent=2))
     plot(args.out)
 
 
@@ -116,7 +116,13 @@ def plot(out: Path) -> None:
     axes[0].legend(fontsize=8, loc="upper center")
     axes[-1].set_xlabel("X (m)")
     fig.tight_layout()
-    fig.savefig(out / "free_surfaces.png", dpi=110)
+    _save(fig, out / "free_surfaces.png", dpi=110)
+
+
+def _save(fig: object, path: Path, **kwargs: object) -> None:
+    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
+    with atomic_file(path) as tmp:
+        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
 
 
 if __name__ == "__main__":

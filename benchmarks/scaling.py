@@ -23,6 +23,8 @@ import sys
 import time
 from pathlib import Path
 
+from granflow.io.run_dir import atomic_file, atomic_write_text
+
 REFERENCE = (329, 0.021)  # triangles of the trapezoid at mesh.size 0.021 m
 
 
@@ -108,7 +110,7 @@ def main(argv: list[str]) -> None:
     fits = {key: {"up_to_20k": slope(rows, key, 0, 25000),
                   "20k_to_80k": slope(rows, key, 15000, 10**9)}
             for key in ("step_s", "factorise_s", "assemble_s", "solve_s")}
-    (args.out / f"scaling-{rows[0]['solver']}.json").write_text(
+    atomic_write_text(args.out / f"scaling-{rows[0]['solver']}.json",
         json.dumps({"rows": rows, "growth_exponents": fits}, indent=2))
     lines = ["| triangles | dofs | step (s) | assemble (s) | factorise (s) | solve (s) | "
              "peak memory (GB) |", "|---|---|---|---|---|---|---|"]
@@ -117,7 +119,7 @@ def main(argv: list[str]) -> None:
               f"{r['peak_rss_gb']:.2f} |" for r in rows]
     lines.append("")
     lines.append("growth exponents (cost ~ n^k): " + json.dumps(fits))
-    (args.out / f"scaling-{rows[0]['solver']}.md").write_text("\n".join(lines) + "\n")
+    atomic_write_text(args.out / f"scaling-{rows[0]['solver']}.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
     import matplotlib
     matplotlib.use("Agg")
@@ -134,7 +136,13 @@ def main(argv: list[str]) -> None:
     ax.set_title(f"Trapezoid, one core, {rows[0]['solver']}")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.out / f"scaling-{rows[0]['solver']}.png", dpi=120)
+    _save(fig, args.out / f"scaling-{rows[0]['solver']}.png", dpi=120)
+
+
+def _save(fig: object, path: Path, **kwargs: object) -> None:
+    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
+    with atomic_file(path) as tmp:
+        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
 
 
 if __name__ == "__main__":

@@ -21,7 +21,7 @@ import json
 from pathlib import Path
 
 from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import RunDir
+from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "linear_solves", "wall_time_s",
@@ -86,14 +86,14 @@ def main() -> None:
                 rigid = results.get(f"{shape}-rigid-{slope:g}", {}).get("runout_m")
                 config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope, rigid),
                                                        *args.extra])
-                run_dir = RunDir.create(args.out / "runs" / name)
+                run_dir = RunDir.create(args.out / "runs" / name, force=True)
                 run_dir.write_text("config.toml", config_to_toml(config))
                 summary = run_simulation(config, run_dir, progress=False)
                 results[name] = {k: summary.get(k) for k in KEYS} | {
                     "shape": shape, "bed": bed, "slope": slope}
                 print(name, json.dumps(results[name]), flush=True)
-                store.write_text(json.dumps(results, indent=2))
-                (args.out / "slopes.md").write_text(table(results))
+                atomic_write_text(store, json.dumps(results, indent=2))
+                atomic_write_text(args.out / "slopes.md", table(results))
     print(table(results))
 
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from granflow.config import config_to_toml, load_config
 from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import RunDir
+from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.simulation.runner import run_simulation
 
 PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
@@ -67,7 +67,7 @@ KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
 def run(scenario: str, overrides: list[str], out: Path) -> dict:
     config = load_config(scenario, [*overrides, "output.progress=false"])
     shutil.rmtree(out, ignore_errors=True)     # never mix the files of two runs
-    run_dir = RunDir.create(out)
+    run_dir = RunDir.create(out, force=True)
     run_dir.write_text("config.toml", config_to_toml(config))
     summary = run_simulation(config, run_dir, progress=False)
     return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
@@ -130,7 +130,7 @@ def main(argv: list[str]) -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     for name in args.cases:
         result = compare(name, args.repeat, args.out / "runs", args.today)
-        (args.out / f"{name}.json").write_text(json.dumps(result, indent=2))
+        atomic_write_text(args.out / f"{name}.json", json.dumps(result, indent=2))
         print(name, "speed-up A/B", round(result["speedup"], 2), "solves",
               result["A"]["linear_solves"], "/", result["B"]["linear_solves"], flush=True)
 

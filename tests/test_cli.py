@@ -91,3 +91,24 @@ def test_argument_errors_exit_2(args: list[str], tmp_path: Path,
         main(args)
     assert info.value.code == 2
     assert list(tmp_path.iterdir()) == []
+
+
+def test_argument_errors_are_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                      capsys: pytest.CaptureFixture[str]) -> None:
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit):
+        main(["verify", "collapse"])
+    err = capsys.readouterr().err
+    assert err.startswith("granflow: error: ") and err.count("\n") == 1
+
+
+def test_verify_exits_non_zero_when_a_cell_misses_its_bound(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    import granflow.verify as verify
+
+    monkeypatch.setitem(verify.QUICK_CELLS, 1, [(0.25, 2.5e-2)])   # 3 cheap cells
+    assert main(["verify", "plug-flow", "--out", str(tmp_path / "ok"), "--quiet"]) == 0
+    monkeypatch.setattr(verify, "BOUND", 1e-3)       # no cell can meet this bound
+    assert main(["verify", "plug-flow", "--out", str(tmp_path / "bad"), "--quiet"]) == 1
+    assert capsys.readouterr().err.count("missed its bound") == 3

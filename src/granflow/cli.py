@@ -168,12 +168,18 @@ def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from granflow.verify import verify_plug_flow
+    from granflow.verify import BOUND, VOLUME_BOUND, verify_plug_flow
 
     out = args.out or _fresh_folder(f"verify-{args.case}-table{args.table}")
-    path = verify_plug_flow(table=args.table, cells=args.cells, out=out, progress=not args.quiet)
-    print(f"verify {args.case}: table {args.table} ({args.cells} cells) -> {path}")
-    return 0
+    outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
+                               progress=not args.quiet)
+    print(f"verify {args.case}: table {args.table} ({args.cells} cells) -> {outcome.path}")
+    for cell in outcome.failed:
+        print(f"granflow: cell eps = {cell.eps:g}, dt = {cell.dt:g}, dZ = {cell.dZ:g} missed "
+              f"its bound: error {cell.error:.3g} > {BOUND:g} x paper {cell.paper_error:.3g}"
+              + (f" or volume error {cell.volume_error:.2g} > {VOLUME_BOUND:g}"
+                 if cell.volume_error is not None else ""), file=sys.stderr)
+    return 1 if outcome.failed else 0
 
 
 def _num(value: object, spec: str) -> str:

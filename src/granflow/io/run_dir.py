@@ -23,7 +23,8 @@ from typing import Any, TextIO
 
 from filelock import FileLock, Timeout
 
-__all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_write_bytes"]
+__all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
+           "atomic_write_text"]
 
 # A folder is a granflow run directory if its config.toml starts with this line prefix.
 RUN_MARKER_FILE = "config.toml"
@@ -41,6 +42,18 @@ def atomic_write_bytes(target: Path, data: bytes) -> None:
         f.write(data)
         f.flush()
         os.fsync(f.fileno())
+
+
+def atomic_write_text(target: Path, text: str) -> None:
+    """``Path.write_text`` done atomically (for benchmarks and ``verify``)."""
+    atomic_write_bytes(Path(target), text.encode("utf-8"))
+
+
+@contextlib.contextmanager
+def atomic_file(target: Path) -> Iterator[Path]:
+    """A temporary path to write (matplotlib, csv) that replaces ``target`` on success."""
+    with _atomic(Path(target)) as tmp:
+        yield tmp
 
 
 @contextlib.contextmanager
