@@ -36,11 +36,11 @@ SCENARIO = {"trapezoid": "trapezoid-rigid", "rectangle": "rectangle-rigid"}
 def overrides(shape: str, bed: str, slope: float, rigid_runout: float | None) -> list[str]:
     """The layer ends 30 % beyond the rigid-bed runout at the same slope (when known)."""
     length = max(1.0, 1.3 * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
-    extra = [*COMMON, f"geometry.slope_deg={slope!r}", "time.t_end=3.0",
-             f"geometry.bed_length={length!r}"]
-    if bed == "erodible":
+    extra = [*COMMON, f"geometry.slope_deg={slope!r}", "time.t_end=3.0"]
+    if bed == "erodible":          # (a rigid bed has no bed_length: it is unbounded)
         height = 0.25 if shape == "trapezoid" else 0.14
-        extra += [*ERODIBLE, f"geometry.height={height + 0.005!r}"]
+        extra += [*ERODIBLE, f"geometry.height={height + 0.005!r}",
+                  f"geometry.bed_length={length!r}"]
     return extra
 
 

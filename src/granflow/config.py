@@ -15,9 +15,10 @@ is one line naming the key, the value and what is allowed. Units are SI, angles 
 
 from __future__ import annotations
 
+import copy
 import math
 import tomllib
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
 from types import NoneType, UnionType
@@ -29,6 +30,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticCustomError
 
+from granflow.config_rules import _fmt, _problems, inert_keys
 from granflow.scenarios.registry import builtin_scenarios, scenario_text
 
 __all__ = ["CUSTOM", "Config", "ConfigError", "apply_overrides", "builtin_scenarios",
@@ -42,10 +44,17 @@ class ConfigError(ValueError):
     """Invalid configuration; the message is one line naming the key, value and allowed range."""
 
 
+# Ranges a physical run can use (SI): wide enough for laboratory to field scales, narrow
+# enough that no value overflows, underflows or makes Netgen mesh for hours.
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
 Angle = Annotated[float, Field(ge=0, lt=90)]
 Fraction = Annotated[float, Field(gt=0, lt=1)]
+Length = Annotated[float, Field(gt=0, le=1e4)]           # m
+Duration = Annotated[float, Field(gt=0, le=1e4)]         # s
+Step = Annotated[float, Field(ge=1e-12, le=100)]         # s, a time step
+Penalty = Annotated[float, Field(ge=1, le=1e20)]
+Count = Annotated[int, Field(ge=0, le=10**9)]
 
 
 class _Section(BaseModel):
@@ -56,11 +65,14 @@ class _Section(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _unset_none(cls, data: Any) -> Any:
-        # TOML has no null: the string "none" unsets an optional field.
+        # TOML has no null: the string "none" unsets an optional field. An integer written
+        # as a float (1e3, 100.0) is that integer.
         if not isinstance(data, dict):
             return data
         return {
-            k: None if _is_none(v) and k in cls.model_fields and _optional(cls, k) else v
+            k: None if _is_none(v) and k in cls.model_fields and _optional(cls, k)
+            else int(v) if _integral(v) and k in cls.model_fields and _int_field(cls, k)
+            else v
             for k, v in data.items()
         }
 
@@ -73,12 +85,23 @@ def _optional(model: type[BaseModel], key: str) -> bool:
     return NoneType in get_args(model.model_fields[key].annotation)
 
 
+def _integral(value: Any) -> bool:
+    return (isinstance(value, float) and math.isfinite(value) and value.is_integer()
+            and abs(value) < 2**63)
+
+
+def _int_field(model: type[BaseModel], key: str) -> bool:
+    tp = model.model_fields[key].annotation
+    return tp is int or int in get_args(tp) or any(
+        get_origin(a) is Annotated and get_args(a)[0] is int for a in get_args(tp))
+
+
 class Material(_Section):
-    density: Positive  # rho (kg/m^3)
-    viscosity: Positive  # dynamic viscosity eta (Pa s)
-    friction_angle_deg: Annotated[float, Field(gt=0, lt=90)]  # delta, mu_s = tan(delta)
+    density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
+    viscosity: Annotated[float, Field(gt=0, le=1e6)]  # dynamic viscosity eta (Pa s)
+    friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
     rheology: Literal["drucker-prager", "mu-i"]
-    gravity: Positive  # g (m/s^2)
+    gravity: Annotated[float, Field(gt=0, le=100)]  # g (m/s^2)
 
     @property
     def mu_s(self) -> float:
@@ -94,19 +117,19 @@ class Material(_Section):
 class Geometry(_Section):
     kind: Literal["periodic-layer", "column"]
     slope_deg: Angle  # bed inclination theta
-    length: Positive  # periodic layer: length l
-    height: Positive  # layer height h, or column height h0
+    length: Length  # periodic layer: length l
+    height: Length  # layer height h, or column height h0
     shape: Literal["trapezoid", "rectangle"]  # column
-    width: Positive  # column base width l0
+    width: Length  # column BASE width l0 (the paper's l0; top width = l0 - h0 / tan(alpha0))
     front_angle_deg: Annotated[float, Field(gt=0, le=90)]  # column front angle alpha0
-    erodible_thickness: NonNegative  # column: he, 0 = rigid bed
-    bed_length: Positive  # column: bed length from the left wall
+    erodible_thickness: Annotated[float, Field(ge=0, le=1e4)]  # column: he, 0 = rigid bed
+    bed_length: Length  # column on an erodible layer: where the layer ends
 
 
 class Boundary(_Section):
     bed_friction_deg: Angle  # Coulomb mu_b = tan(angle)
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
-    penalty: Positive  # enforces u.n = 0 on the bed and the wall
+    penalty: Penalty  # enforces u.n = 0 on the bed and the wall
     normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
 
     @property
@@ -119,28 +142,28 @@ class Boundary(_Section):
 
 
 class Initial(_Section):
-    shear_rate: NonNegative  # plug flow: U0 = shear_rate [Z - plug_base]_+
-    plug_base: NonNegative
+    shear_rate: Annotated[float, Field(ge=0, le=1e4)]  # plug flow: U0 = rate [Z - plug_base]_+
+    plug_base: Annotated[float, Field(ge=0, le=1e4)]
 
 
 class Mesh(_Section):
-    size: Positive  # target edge length (m)
-    cells_x: Annotated[int, Field(ge=2)] | None  # periodic layer; None = round(length / size)
+    size: Annotated[float, Field(gt=0, le=1e3)]  # target edge length (m)
+    cells_x: Annotated[int, Field(ge=2, le=10**5)] | None  # periodic layer; None = length/size
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
     failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
     layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
 
 
 class Numerics(_Section):
-    eps: Positive  # regularisation epsilon of (2.13)
-    eps_friction: Positive  # regularisation of the Coulomb friction
+    eps: Annotated[float, Field(gt=0, le=1e3)]  # regularisation epsilon of (2.13) (1/s)
+    eps_friction: Annotated[float, Field(gt=0, le=1e3)]  # of the Coulomb friction (m/s)
     tol: Fraction  # stopping tolerance of the fixed-point iteration (3.2)
     tol_init: Fraction | None  # start tolerance of the ramp; None = tol
-    max_iterations: Annotated[int, Field(ge=1)]
+    max_iterations: Annotated[int, Field(ge=1, le=10**5)]
     linearization: Literal["picard", "newton", "hybrid"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
-    mesh_penalty: Positive
-    velocity_floor: Annotated[float, Field(ge=0)]  # m/s, floor of ||u|| in the (3.2) criterion
+    mesh_penalty: Penalty
+    velocity_floor: Annotated[float, Field(ge=0, le=1e3)]  # m/s, floor of ||u|| in (3.2)
     volume_correction: bool  # restore the initial area after each ALE move (column only)
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
     linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
@@ -152,31 +175,31 @@ class Numerics(_Section):
 
 
 class Time(_Section):
-    t_end: Positive
-    dt: Positive | None  # fixed step; overrides the ramp
-    dt_init: Positive
-    dt_max: Positive
-    dt_growth: Annotated[float, Field(ge=1)]
+    t_end: Duration
+    dt: Step | None  # fixed step; overrides the ramp
+    dt_init: Step
+    dt_max: Step
+    dt_growth: Annotated[float, Field(ge=1, le=10)]
     adaptive: bool  # error-controlled steps; false keeps the paper's ramp (3.1)
     error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
-    error_floor: Positive  # adaptive: m/s, RMS speed below which the error is absolute
+    error_floor: Annotated[float, Field(gt=0, le=1e3)]  # adaptive: m/s, RMS speed floor
     stop_at_rest: bool  # end the run once the mass has come to rest
     rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
-    rest_duration: NonNegative  # s the mass must stay at rest before the run ends
+    rest_duration: Annotated[float, Field(ge=0, le=1e4)]  # s at rest before the run ends
     output_times: list[float]
 
 
 class SurfaceTension(_Section):
     enabled: bool
-    delta: Positive  # extent of the tension around the tip, in surface nodes (3.11)
-    gamma0: Literal["auto"] | NonNegative  # gamma0-bar of (3.11)
+    delta: Annotated[float, Field(gt=0, le=1e4)]  # extent in surface nodes (3.11)
+    gamma0: Literal["auto"] | Annotated[float, Field(ge=0, le=1e9)]  # gamma0-bar of (3.11)
     trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
     release_angle_deg: Annotated[float, Field(ge=0, le=180)]  # stays on while it turns >=
 
 
 class Output(_Section):
-    vtk_every: Annotated[int, Field(ge=0)]  # 0 = only at output_times
-    checkpoint_every: Annotated[int, Field(ge=0)]  # 0 = only when interrupted or failed
+    vtk_every: Count  # 0 = only at output_times
+    checkpoint_every: Count  # 0 = only when interrupted or failed
     progress: bool
 
 
@@ -208,80 +231,49 @@ SECTIONS: dict[str, type[_Section]] = {
 }
 
 
-def _problems(c: Config) -> Iterator[str]:
-    """Cross-field checks, then choices whose names are reserved but not implemented yet."""
-    t, g, m = c.time, c.geometry, c.mesh
-    if t.dt_init > t.dt_max:
-        yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
-    for x in t.output_times:
-        if not 0 < x <= t.t_end:
-            yield (f"time.output_times = {_fmt(t.output_times)}: {x!r} is not in "
-                   f"(0, time.t_end = {t.t_end!r}]")
-    if any(b <= a for a, b in zip(t.output_times, t.output_times[1:], strict=False)):
-        yield f"time.output_times = {_fmt(t.output_times)}: must be increasing"
-    if g.kind == "periodic-layer":
-        side = min(g.length, g.height)
-        if m.size > side:
-            yield (f"mesh.size = {m.size!r} must not exceed "
-                   f"min(geometry.length, geometry.height) = {side!r}")
-        if c.initial.plug_base >= g.height:
-            yield (f"geometry.height = {g.height!r} must be greater than "
-                   f"initial.plug_base = {c.initial.plug_base!r}")
-        if c.material.friction_angle_deg < g.slope_deg:
-            yield (f"material.friction_angle_deg = {c.material.friction_angle_deg!r} must be >= "
-                   f"geometry.slope_deg = {g.slope_deg!r}, or the layer can never stop")
-        if c.numerics.mesh_velocity in ("elastic", "lagrange"):
-            yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
-                   "geometry.kind = 'periodic-layer'; use 'fixed' or 'vertical'")
-    else:
-        side = min(g.width, g.height)
-        if m.size > side:
-            yield (f"mesh.size = {m.size!r} must not exceed "
-                   f"min(geometry.width, geometry.height) = {side!r}")
-        if g.bed_length <= g.width:
-            yield (f"geometry.bed_length = {g.bed_length!r} must be greater than "
-                   f"geometry.width = {g.width!r}")
-        if g.erodible_thickness >= g.height:
-            yield (f"geometry.erodible_thickness = {g.erodible_thickness!r} must be less than "
-                   f"geometry.height = {g.height!r}")
-        if c.numerics.mesh_velocity in ("fixed", "vertical"):
-            yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
-                   "geometry.kind = 'column' (its free surface must move); "
-                   "use 'elastic' (3.6) or 'lagrange' (3.7)")
-        run = g.height / math.tan(math.radians(g.front_angle_deg))  # horizontal extent of front
-        if g.shape == "trapezoid" and run >= g.width:
-            yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
-                   "column: its top width, width - height / tan(front_angle), must be > 0")
-    st = c.surface_tension
-    if st.release_angle_deg > st.trigger_angle_deg:
-        yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
-               f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
-    not_yet = {
-        "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
-    }
-    for key, (value, reserved, use) in not_yet.items():
-        if value == reserved:
-            yield f"{key} = {_fmt(value)} is not implemented yet; use {use}"
-
 
 # ---------------------------------------------------------------- loading and layering
 
 
 def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
-    """Resolve defaults -> scenario (built-in name or TOML file) -> ``--set`` overrides."""
+    """Resolve defaults -> scenario (built-in name or TOML file) -> ``--set`` overrides.
+
+    A key the user sets (in a TOML file or with ``--set``) to something other than what it
+    would be anyway is rejected when it has no effect on this scenario (``inert_keys``).
+    """
     data = _defaults()
     name, layers = _read_source(source)
-    for layer in layers:
+    from_file = name == CUSTOM or len(layers) > 1
+    for layer in layers[:-1] if from_file else layers:
         _merge(data, layer)
-    explicit = "output_times" in layers[-1].get("time", {}) if len(layers) > 1 else False
+    base = copy.deepcopy(data)
+    if from_file:
+        _merge(data, layers[-1])
+    explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
     _apply(data, overrides)
     explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
                                for o in overrides)
-    if not explicit:  # inherited output times after a shortened t_end are dropped
-        t_end = data["time"]["t_end"]
-        data["time"]["output_times"] = [x for x in data["time"]["output_times"] if x <= t_end]
+    t_end, times = data["time"]["t_end"], data["time"]["output_times"]
+    if not explicit and _numbers(times) and _numbers([t_end]):
+        # inherited output times after a shortened t_end are dropped
+        data["time"]["output_times"] = [x for x in times if x <= t_end]
     data["scenario"] = name
-    return _validate(data)
+    config = _validate(data)
+    changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
+               if data[section][key] != base[section].get(key)]
+    inert = inert_keys(config)
+    for key in changed:
+        if key in inert:
+            section, name_ = key.split(".")
+            raise ConfigError(f"{key} = {_fmt(data[section][name_])} has no effect here: "
+                              f"{inert[key]}; remove it")
+    return config
+
+
+def _numbers(values: Any) -> bool:
+    return isinstance(values, list) and all(
+        isinstance(v, int | float) and not isinstance(v, bool) for v in values)
+
 
 
 def apply_overrides(config: Config, overrides: Sequence[str]) -> Config:
@@ -448,14 +440,3 @@ def _describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
     if hi:
         return f"{noun} {'<' if hi[0] == ')' else '<='} {hi[1]:g}"
     return noun
-
-
-def _fmt(value: Any) -> str:
-    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none)."""
-    if value is None:
-        return "none"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, list | tuple):
-        return "[" + ", ".join(_fmt(v) for v in value) + "]"
-    return repr(value)

@@ -19,14 +19,17 @@ def reference_field(mesh: ngs.Mesh, z: np.ndarray, u: np.ndarray) -> ngs.Coeffic
     return ngs.CF((profile, 0.0))
 
 
-def velocity_relative_error_l2(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
-                               z: np.ndarray, u: np.ndarray) -> float:
-    """e_L2(u) = ||u_h - (U_ref, 0)||_L2 / ||U_ref||_L2 over the current domain."""
+def velocity_errors_l2(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
+                       z: np.ndarray, u: np.ndarray) -> tuple[float, float | None]:
+    """(||u_h - (U_ref, 0)||_L2, that over ||U_ref||_L2) over the current domain; the
+    relative error is None when the reference is at rest (U_ref = 0: nothing to divide by,
+    and the absolute error is the result)."""
     ref = reference_field(mesh, z, u)
     diff = velocity - ref
     err2 = ngs.Integrate(diff * diff, mesh, order=8)
     norm2 = ngs.Integrate(ref * ref, mesh, order=8)
-    return math.sqrt(err2 / norm2)
+    absolute = math.sqrt(max(err2, 0.0))
+    return absolute, (absolute / math.sqrt(norm2) if norm2 > 0 else None)
 
 
 def vertical_profile(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, x: float,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -10,7 +11,7 @@ import numpy as np
 
 from granflow.ale.mesh_motion import AleMover, VerticalMeshVelocity
 from granflow.config import Config
-from granflow.diagnostics.plug_flow import velocity_relative_error_l2, vertical_profile
+from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
 from granflow.geometry.mesh import BED, periodic_layer_mesh
@@ -31,8 +32,21 @@ class PlugFlow:
     simulation: Simulation
     _references: dict[float, Plug1DSolution] = field(default_factory=dict)
 
-    def reference(self, t: float) -> Plug1DSolution:
-        """The independent 1D solution of (4.1) at time t (cached)."""
+    def reference_note(self) -> str | None:
+        """Why the 1D reference does not apply, or None. (4.1) has a steady plug only when
+        the friction angle is at least the slope; steeper, the layer keeps accelerating (a
+        valid 2D run, but the 1D solver is not built for it)."""
+        c = self.config
+        if c.material.friction_angle_deg < c.geometry.slope_deg:
+            return (f"no 1D reference: material.friction_angle_deg = "
+                    f"{c.material.friction_angle_deg:g} < geometry.slope_deg = "
+                    f"{c.geometry.slope_deg:g}, the layer never stops")
+        return None
+
+    def reference(self, t: float) -> Plug1DSolution | None:
+        """The independent 1D solution of (4.1) at time t (cached); None if it does not apply."""
+        if self.reference_note() is not None:
+            return None
         key = round(t, 12)
         if key not in self._references:
             c = self.config
@@ -44,9 +58,17 @@ class PlugFlow:
                 gravity=c.material.gravity)
         return self._references[key]
 
-    def velocity_error(self, t: float) -> float:
+    def velocity_errors(self, t: float) -> tuple[float, float | None] | None:
+        """(absolute, relative) L2 errors against the reference at t, None without one."""
         ref = self.reference(t)
-        return velocity_relative_error_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
+        if ref is None:
+            return None
+        return velocity_errors_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
+
+    def velocity_error(self, t: float) -> float:
+        """Relative L2 error e_L2(u) (Tables 1-2); NaN without a reference or when it is 0."""
+        errors = self.velocity_errors(t)
+        return math.nan if errors is None or errors[1] is None else errors[1]
 
     def save_state(self) -> dict[str, Any]:
         """The flow history and the vertex positions (the vertical mesh motion moves them;
@@ -69,7 +91,8 @@ class PlugFlow:
         z = np.linspace(0.0, self.config.geometry.height, 481)
         z[-1] -= 1e-9  # stay inside the mesh
         u = vertical_profile(self.mesh, self.solver.velocity, self.config.geometry.length / 2, z)
-        return z, u, self.reference(t)(z)
+        ref = self.reference(t)
+        return z, u, ref(z) if ref is not None else np.full(len(z), np.nan)
 
     def write_profiles(self, run_dir: RunDir, t: float) -> None:
         z, u, ref = self.profile(t)
@@ -78,9 +101,12 @@ class PlugFlow:
 
     def summary(self, result: RunResult) -> dict[str, Any]:
         ref = self.reference(result.t_final) if result.t_final > 0 else None
+        errors = self.velocity_errors(result.t_final) if ref is not None else None
         return {
-            "velocity_relative_error_l2": self.velocity_error(result.t_final) if ref else None,
+            "velocity_relative_error_l2": errors[1] if errors else None,
+            "velocity_error_l2": errors[0] if errors else None,
             "reference_interface_m": ref.interface if ref else None,
+            "reference_note": self.reference_note(),
         }
 
     def plot(self, run_dir: RunDir) -> None:

@@ -1,0 +1,155 @@
+"""Cross-field rules of the configuration: consistency, mesh size, and keys without effect.
+
+Kept apart from ``config.py`` (the schema and its layered loading): these rules read a
+validated ``Config``. ``inert_keys`` is what a user who sets such a key is told about;
+every other key changes a result (tests/unit/test_config_keys.py walks the schema).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from granflow.config import Config
+
+MAX_TRIANGLES = 200_000   # beyond this a direct solve needs tens of GB (benchmarks/scaling.py)
+
+
+def _problems(c: Config) -> Iterator[str]:
+    """Cross-field checks, then choices whose names are reserved but not implemented yet."""
+    t, g, m = c.time, c.geometry, c.mesh
+    if t.dt_init > t.dt_max:
+        yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
+    for x in t.output_times:
+        if not 0 < x <= t.t_end:
+            yield (f"time.output_times = {_fmt(t.output_times)}: {x!r} is not in "
+                   f"(0, time.t_end = {t.t_end!r}]")
+    if any(b <= a for a, b in zip(t.output_times, t.output_times[1:], strict=False)):
+        yield f"time.output_times = {_fmt(t.output_times)}: must be increasing"
+    if g.kind == "periodic-layer":
+        side = min(g.length, g.height)
+        if m.size > side:
+            yield (f"mesh.size = {m.size!r} must not exceed "
+                   f"min(geometry.length, geometry.height) = {side!r}")
+        if c.initial.plug_base >= g.height:
+            yield (f"geometry.height = {g.height!r} must be greater than "
+                   f"initial.plug_base = {c.initial.plug_base!r}")
+        if c.numerics.mesh_velocity in ("elastic", "lagrange"):
+            yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
+                   "geometry.kind = 'periodic-layer'; use 'fixed' or 'vertical'")
+    else:
+        side = min(g.width, g.height)
+        if m.size > side:
+            yield (f"mesh.size = {m.size!r} must not exceed "
+                   f"min(geometry.width, geometry.height) = {side!r}")
+        if g.erodible_thickness > 0 and g.bed_length <= g.width:
+            yield (f"geometry.bed_length = {g.bed_length!r} must be greater than "
+                   f"geometry.width = {g.width!r} (the erodible layer must reach beyond the "
+                   "column)")
+        if g.erodible_thickness >= g.height:
+            yield (f"geometry.erodible_thickness = {g.erodible_thickness!r} must be less than "
+                   f"geometry.height = {g.height!r}")
+        if c.numerics.mesh_velocity in ("fixed", "vertical"):
+            yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
+                   "geometry.kind = 'column' (its free surface must move); "
+                   "use 'elastic' (3.6) or 'lagrange' (3.7)")
+        run = g.height / math.tan(math.radians(g.front_angle_deg))  # horizontal extent of front
+        if g.shape == "trapezoid" and run >= g.width:
+            yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
+                   "column: its top width, width - height / tan(front_angle), must be > 0")
+    st = c.surface_tension
+    if st.release_angle_deg > st.trigger_angle_deg:
+        yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
+               f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
+    triangles = estimated_triangles(c)
+    if triangles > MAX_TRIANGLES:
+        smallest = m.size * math.sqrt(triangles / MAX_TRIANGLES)
+        yield (f"mesh.size = {m.size!r} gives about {triangles:.2g} triangles (at most "
+               f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}"
+               + (" or fewer mesh.layer_cells" if g.erodible_thickness > 0 else ""))
+    st = c.surface_tension
+    if st.release_angle_deg > st.trigger_angle_deg:
+        yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
+               f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
+    not_yet = {
+        "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
+    }
+    for key, (value, reserved, use) in not_yet.items():
+        if value == reserved:
+            yield f"{key} = {_fmt(value)} is not implemented yet; use {use}"
+
+
+def estimated_triangles(c: Config) -> float:
+    """Triangles the mesher will make, from the domain's area and mesh.size (an equilateral
+    triangle of side h has area 0.433 h^2; the erodible layer has its own finer cells)."""
+    g, m = c.geometry, c.mesh
+    if g.kind == "periodic-layer":
+        return 2 * (m.cells_x or g.length / m.size) * g.height / m.size
+    run = g.height / math.tan(math.radians(g.front_angle_deg)) if g.shape == "trapezoid" else 0
+    area = g.width * g.height - 0.5 * g.height * min(run, g.width)
+    count = area / (0.433 * m.size**2)
+    if g.erodible_thickness > 0:
+        fine = g.erodible_thickness / m.layer_cells
+        count += g.bed_length * g.erodible_thickness / (0.433 * fine**2)
+    return count
+
+
+def inert_keys(c: Config) -> dict[str, str]:
+    """Keys that change nothing in a run of ``c``, each with the reason (shown to a user
+    who sets one). Every other key changes a result (tests/unit/test_config_keys.py)."""
+    g, t, st = c.geometry, c.time, c.surface_tension
+    out: dict[str, str] = {}
+
+    def add(keys: str, reason: str) -> None:
+        out.update(dict.fromkeys(keys.split(), reason))
+
+    if g.kind == "periodic-layer":
+        add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
+            "geometry.bed_length", "it describes a column, and geometry.kind = 'periodic-layer'")
+        add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
+            "boundary.normal_load", "the periodic layer has a no-slip bed and no walls")
+        add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells "
+            "numerics.volume_correction time.stop_at_rest time.rest_fraction "
+            "time.rest_duration surface_tension.enabled surface_tension.delta "
+            "surface_tension.gamma0 surface_tension.trigger_angle_deg "
+            "surface_tension.release_angle_deg", "it applies to columns only")
+        if c.numerics.mesh_velocity == "fixed":
+            add("numerics.mesh_penalty numerics.ale_extrapolation",
+                "numerics.mesh_velocity = 'fixed' (the mesh does not move)")
+    else:
+        add("geometry.length initial.shear_rate initial.plug_base mesh.cells_x",
+            "it describes the periodic layer, and geometry.kind = 'column'")
+        if g.erodible_thickness == 0:
+            add("geometry.bed_length mesh.layer_cells",
+                "it describes the erodible layer, and geometry.erodible_thickness = 0")
+        if g.shape == "rectangle":
+            add("geometry.front_angle_deg", "geometry.shape = 'rectangle' has a vertical front")
+        if not st.enabled:
+            add("surface_tension.delta surface_tension.gamma0 surface_tension.trigger_angle_deg "
+                "surface_tension.release_angle_deg", "surface_tension.enabled = false")
+        if not t.stop_at_rest:
+            add("time.rest_fraction time.rest_duration", "time.stop_at_rest = false")
+    if t.dt is not None:
+        add("time.dt_init time.dt_max time.dt_growth time.adaptive time.error_tol "
+            "time.error_floor numerics.tol_init", "time.dt sets a fixed step")
+    elif t.adaptive:
+        add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
+    else:
+        add("time.error_tol time.error_floor", "time.adaptive = false")
+    if c.numerics.linearization != "picard":
+        add("numerics.initial_guess", "Newton and the hybrid always start from the "
+            "extrapolated state")
+    return out
+
+
+def _fmt(value: Any) -> str:
+    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none)."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_fmt(v) for v in value) + "]"
+    return repr(value)
