@@ -57,6 +57,11 @@ class ColumnMover(AleMover):
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
         self.relabelled_segments = 0
         self.limited_steps = 0
+        # the volume fix: relative area restored at the last move, and summed over the run
+        # (|.| and signed), so that a volume error of 0 by construction says what it cost
+        self.step_correction = 0.0
+        self.correction_abs = 0.0
+        self.correction_net = 0.0
 
     def inherit(self, other: ColumnMover) -> None:
         """Carry the reference area and the counters over a remesh."""
@@ -64,6 +69,7 @@ class ColumnMover(AleMover):
         self.relabelled_segments = other.relabelled_segments
         self.limited_steps = other.limited_steps
         self.velocity_solves = other.velocity_solves
+        self.correction_abs, self.correction_net = other.correction_abs, other.correction_net
         if self.tension is not None and other.tension is not None:
             self.tension.state = other.tension.state
 
@@ -72,10 +78,12 @@ class ColumnMover(AleMover):
         return {"initial_area": self.initial_area,
                 "relabelled_segments": self.relabelled_segments,
                 "limited_steps": self.limited_steps, "velocity_solves": self.velocity_solves,
+                "correction_abs": self.correction_abs, "correction_net": self.correction_net,
                 "tension": copy.deepcopy(self.tension.state) if self.tension else None}
 
     def restore_state(self, state: dict[str, object]) -> None:
-        for key in ("initial_area", "relabelled_segments", "limited_steps", "velocity_solves"):
+        for key in ("initial_area", "relabelled_segments", "limited_steps", "velocity_solves",
+                    "correction_abs", "correction_net"):
             setattr(self, key, state[key])
         if self.tension is not None and state["tension"] is not None:
             self.tension.state = copy.deepcopy(state["tension"])  # type: ignore[assignment]
@@ -129,7 +137,8 @@ class ColumnMover(AleMover):
         if self.conserve_volume:
             pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
-            conserve_area(xy, self.chain.segments, movable, self.initial_area)
+            self.step_correction = conserve_area(xy, self.chain.segments, movable,
+                                                 self.initial_area)
         if self.tension is not None:
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
 
@@ -167,6 +176,8 @@ class ColumnMover(AleMover):
         return None
 
     def after_accept(self) -> None:
+        self.correction_abs += abs(self.step_correction)
+        self.correction_net += self.step_correction
         if self.tension is not None and self.tension.state.active:
             self.tension.state.active_steps += 1
         self.relabelled_segments += relabel_deposited(self.chain, tol=1e-12)

@@ -112,7 +112,7 @@ def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
     The smallest displacement (in the least-squares sense) that restores the area: the
     discrete velocity carries no net flux through the boundary (Taylor–Hood, integral of
     div u_h = 0), so any area change comes from moving straight edges and is removed.
-    Returns the relative correction applied.
+    Returns the relative area change applied, signed: (after - before) / target.
     """
     before = polygon_area(xy, segments)
     for _ in range(iterations):
@@ -122,4 +122,4 @@ def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
             break
         delta = (target - polygon_area(xy, segments)) / denom
         xy[movable] += delta * g
-    return abs(polygon_area(xy, segments) - before) / abs(target)
+    return (polygon_area(xy, segments) - before) / abs(target)

@@ -53,6 +53,9 @@ class ColumnCollapse:
     frames: list[dict[str, Any]] = field(default_factory=list)
     remeshes: int = 0
     fresh_quality: float = 1.0
+    remesh_changes: list[float] = field(default_factory=list)  # relative area, per remesh
+    remesh_restored: list[float] = field(default_factory=list)  # area its simplification lost
+    unrecorded_change: float = 0.0   # area change of the remeshes since the last diagnostics row
 
     # --- remeshing (the loop calls these; they replace mesh, solver and mover) ----------
     def needs_remesh(self) -> bool:
@@ -72,8 +75,13 @@ class ColumnCollapse:
         (``ale/transfer.py``: interpolation inside the old domain, then a divergence-free
         projection)."""
         old_solver, old_mover = self.solver, self.mover
-        mesh = remesh(self.mesh, self.config.mesh.size, layer_edge_sizes(self.config))
+        remeshed = remesh(self.mesh, self.config.mesh.size, layer_edge_sizes(self.config))
+        mesh = remeshed.mesh
         solver, mover = _flow_and_motion(self.config, mesh)
+        change = (mover.area() - old_mover.area()) / old_mover.initial_area
+        self.remesh_changes.append(change)
+        self.remesh_restored.append(remeshed.area_restored)
+        self.unrecorded_change += change
         walls, penalty = [BED, WALL, END], self.config.boundary.penalty
         transfer_state(old_solver.previous, solver.previous, walls, penalty)
         if old_solver.dt_previous > 0:
@@ -94,7 +102,8 @@ class ColumnCollapse:
         return {"mesh": pickle.dumps(self.mesh), "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), "history": copy.deepcopy(self.history),
                 "frames": list(self.frames), "remeshes": self.remeshes,
-                "fresh_quality": self.fresh_quality}
+                "fresh_quality": self.fresh_quality, "remesh_changes": list(self.remesh_changes),
+                "remesh_restored": list(self.remesh_restored)}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
@@ -107,6 +116,8 @@ class ColumnCollapse:
         self.history = copy.deepcopy(state["history"])
         self.frames = list(state["frames"])
         self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
+        self.remesh_changes = list(state["remesh_changes"])
+        self.remesh_restored = list(state["remesh_restored"])
 
     # --- observers' side ---------------------------------------------------------------
     def front(self) -> float:
@@ -127,6 +138,8 @@ class ColumnCollapse:
         speed = float(cell_speed[at_front].max())      # cells touching the front vertex
         out = {"front_x": x_front, "front_speed": speed,
                "wall_height": front_diag.wall_height(xy)}
+        out["area_correction"] = self.mover.step_correction
+        out["remesh_area_change"] = self.unrecorded_change
         tension = self.mover.tension
         if tension is not None:
             out["tension_on"] = float(tension.state.active)
@@ -136,6 +149,7 @@ class ColumnCollapse:
     def record(self, row: dict[str, float]) -> None:
         for key, values in self.history.items():
             values.append(row[key])
+        self.unrecorded_change = 0.0
 
     def flowing(self) -> np.ndarray:
         flags, _ = flowing_cells(self.mesh, self.solver.velocity)
@@ -214,6 +228,10 @@ class ColumnCollapse:
             "min_triangle_area_m2": float(np.min(signed_areas(self.mesh))),
             "min_triangle_quality": float(np.min(shape_quality(self.mesh))),
             "remeshes": self.remeshes,
+            "remesh_area_change_max": max(map(abs, self.remesh_changes), default=0.0),
+            "remesh_area_restored_max": max(map(abs, self.remesh_restored), default=0.0),
+            "area_correction_total": self.mover.correction_abs,   # sum of |relative fixes|
+            "area_correction_net": self.mover.correction_net,     # their signed sum
             "surface_tension_steps": (self.mover.tension.state.active_steps
                                       if self.mover.tension is not None else None),
         }

@@ -33,7 +33,8 @@ from granflow.simulation.state import SimulationState
 
 DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
                       "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
-                      "local_error", "tension_on", "tension_x"]
+                      "local_error", "tension_on", "tension_x", "area_correction",
+                      "remesh_area_change"]
 ANIMATION_INTERVAL_S = 0.02
 
 
