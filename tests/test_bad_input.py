@@ -1,0 +1,223 @@
+"""No traceback on any input (issue 15): generated bad configurations, TOML files,
+``--set`` values and ``--out`` paths each exit with code 2 and a one-line message, and
+create nothing.
+
+The values are bad by construction: read from the schema (each number outside its range,
+a non-integer for an integer, a word for a choice, a non-boolean for a switch), unknown
+keys, broken TOML, and output paths that cannot be a run directory. A value that slipped
+through would start a simulation: ``run_simulation`` is replaced by a failure.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import os
+import tempfile
+from pathlib import Path
+from types import NoneType
+from typing import Annotated, Any, Literal, Union, get_args, get_origin
+
+import annotated_types as at
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import granflow.simulation.runner as runner
+from granflow.cli import main
+from granflow.config import SECTIONS, load_config
+from granflow.config_rules import MAX_TRIANGLES
+
+SCENARIOS = ["plug-flow", "trapezoid-rigid", "rectangle-rigid", "trapezoid-erodible"]
+WORD = st.text(alphabet="abcdefghijklmnopqrstuvwxyz_-", min_size=1, max_size=12)
+
+
+def _bounds(annotation: Any, metadata: list[Any]) -> tuple[Any, dict[str, float]]:
+    """(base type, {gt/ge/lt/le: bound}) of a field's annotation (None dropped)."""
+    bounds: dict[str, float] = {}
+    tp = annotation
+    while True:
+        origin = get_origin(tp)
+        if origin in (Union, type(int | None)):
+            args = [a for a in get_args(tp) if a is not NoneType]
+            if len(args) != 1:
+                return tp, bounds
+            tp = args[0]
+        elif origin is Annotated:
+            metadata = [*metadata, *tp.__metadata__]
+            tp = get_args(tp)[0]
+        else:
+            break
+    for item in metadata:
+        for m in getattr(item, "metadata", [item]):
+            for cls, key in ((at.Gt, "gt"), (at.Ge, "ge"), (at.Lt, "lt"), (at.Le, "le")):
+                if isinstance(m, cls):
+                    bounds[key] = float(getattr(m, key))
+    return tp, bounds
+
+
+def bad_values(section: str, key: str) -> st.SearchStrategy[str]:
+    """TOML literals that the field ``section.key`` must refuse."""
+    field = SECTIONS[section].model_fields[key]
+    tp, bounds = _bounds(field.annotation, list(field.metadata))
+    words = WORD.filter(lambda w: w != "none").map(lambda w: f'"{w}"')
+    if get_origin(tp) is Literal or get_origin(field.annotation) in (Union, type(int | None)) and \
+            any(get_origin(a) is Literal for a in get_args(field.annotation)):
+        choices = {a for t in [tp, *get_args(field.annotation)] if get_origin(t) is Literal
+                   for a in get_args(t)}
+        return st.one_of(words.filter(lambda w: w.strip('"') not in choices),
+                         st.sampled_from(["[1, 2]", "true"]))
+    if tp is bool:
+        return st.sampled_from(["1", "0", '"yes"', '"true"', "[true]", "2.5"])
+    if get_origin(tp) is list:
+        return st.one_of(st.floats(allow_nan=False).map(repr), words,
+                         st.just('["a", 0.1]'), st.just("[nan]"))
+    low = bounds.get("gt", bounds.get("ge", -math.inf))
+    high = bounds.get("lt", bounds.get("le", math.inf))
+    outside = []
+    if math.isfinite(low):
+        below = (st.floats(max_value=low, exclude_max="ge" in bounds, allow_nan=False,
+                           allow_infinity=True)
+                 if "gt" in bounds or "ge" in bounds else st.nothing())
+        outside.append(below.filter(lambda v: v < low or ("gt" in bounds and v == low)))
+    if math.isfinite(high):
+        outside.append(st.floats(min_value=high, allow_nan=False, allow_infinity=True)
+                       .filter(lambda v: v > high or ("lt" in bounds and v == high)))
+    specials = st.sampled_from(["nan", "inf", "-inf", '"abc"', "[1.0]", "true"])
+    if tp is int:
+        outside.append(st.floats(allow_nan=False, allow_infinity=False)
+                       .filter(lambda v: not v.is_integer() and low < v < high))
+    values = st.one_of(*outside).map(repr) if outside else st.nothing()
+    return st.one_of(values, specials)
+
+
+FIELDS = [(s, k) for s, model in SECTIONS.items() for k in model.model_fields]
+
+
+@st.composite
+def bad_set(draw: st.DrawFn) -> list[str]:
+    """``run SCENARIO --set section.key=BAD``, or an unknown key or a malformed --set."""
+    scenario = draw(st.sampled_from(SCENARIOS))
+    kind = draw(st.sampled_from(["value", "value", "value", "unknown", "malformed", "tiny"]))
+    if kind == "tiny":         # a mesh Netgen would take hours to make
+        size = draw(st.floats(min_value=1e-12, max_value=1e-4))
+        assignment = f"mesh.size={size!r}"
+    elif kind == "value":
+        section, key = draw(st.sampled_from(FIELDS))
+        assignment = f"{section}.{key}={draw(bad_values(section, key))}"
+    elif kind == "unknown":
+        section = draw(st.sampled_from([*SECTIONS, "solver", "mesh2"]))
+        known = SECTIONS[section].model_fields if section in SECTIONS else {}
+        key = draw(WORD.filter(lambda w: w not in known))
+        assignment = f"{section}.{key}=1"
+    else:
+        assignment = draw(st.sampled_from(["", "=", "numerics.eps", "=1", ".=2", "eps=1"]))
+    return ["run", scenario, "--set", assignment]
+
+
+@st.composite
+def bad_toml(draw: st.DrawFn) -> tuple[str, list[str]]:
+    """A scenario file that is broken TOML, names an unknown section/key/scenario, or sets a
+    bad value; returns (file text, arguments)."""
+    kind = draw(st.sampled_from(["garbage", "section", "key", "scenario", "value", "type"]))
+    if kind == "garbage":
+        text = draw(st.sampled_from(["[", "a = ", "x = [1,", "[numerics\neps = 1", "= 3",
+                                     'scenario = "plug-flow"\nscenario = "x"']))
+    elif kind == "section":
+        text = f"[{draw(WORD.filter(lambda w: w not in SECTIONS))}]\nx = 1\n"
+    elif kind == "key":
+        section = draw(st.sampled_from(list(SECTIONS)))
+        key = draw(WORD.filter(lambda w: w not in SECTIONS[section].model_fields))
+        text = f"[{section}]\n{key} = 1\n"
+    elif kind == "scenario":
+        text = f'scenario = "{draw(WORD.filter(lambda w: w not in SCENARIOS))}"\n'
+    elif kind == "type":
+        section = draw(st.sampled_from(list(SECTIONS)))
+        text = f"{section} = {draw(st.sampled_from(['1', '[1, 2]', 'true']))}\n"
+    else:
+        section, key = draw(st.sampled_from(FIELDS))
+        base = draw(st.sampled_from(SCENARIOS))
+        text = f'scenario = "{base}"\n[{section}]\n{key} = {draw(bad_values(section, key))}\n'
+    return text, ["run", "case.toml"]
+
+
+OUT_PATHS = ["", "a_file", "a_file/run", "foreign", "foreign/", "/proc/granflow-run",
+             "/dev/null/run"]
+
+
+@st.composite
+def bad_out(draw: st.DrawFn) -> list[str]:
+    """``run --out PATH`` where PATH cannot be a fresh run directory."""
+    return ["run", draw(st.sampled_from(SCENARIOS)), "--out", draw(st.sampled_from(OUT_PATHS)),
+            "--quiet"]
+
+
+def _tree(root: Path) -> list[str]:
+    return sorted(str(p.relative_to(root)) for p in root.rglob("*"))
+
+
+def _refuse_to_run(*args: Any, **kwargs: Any) -> dict[str, Any]:
+    raise AssertionError("a bad input was accepted and a simulation started")
+
+
+@pytest.fixture(autouse=True)
+def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(runner, "run_simulation", _refuse_to_run)
+
+
+def check_refused(args: list[str], toml: str | None = None) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        (root / "a_file").write_text("not a folder\n")
+        (root / "foreign").mkdir()
+        (root / "foreign" / "notes.txt").write_text("mine\n")
+        if toml is not None:
+            (root / "case.toml").write_text(toml)
+        before = _tree(root)
+        err, cwd = io.StringIO(), os.getcwd()
+        os.chdir(root)
+        try:
+            with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+                try:
+                    code = main(args)
+                except SystemExit as exit_:
+                    code = exit_.code
+        finally:
+            os.chdir(cwd)
+        message = err.getvalue()
+        assert code == 2, (args, toml, message)
+        assert message.startswith("granflow: error: ") and message.count("\n") == 1, message
+        assert "Traceback" not in message
+        assert _tree(root) == before, (args, toml)
+
+
+SETTINGS = settings(max_examples=150, deadline=None, derandomize=True,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+
+
+@SETTINGS
+@given(bad_set())
+def test_bad_set_values_exit_2_with_one_line(args: list[str]) -> None:
+    check_refused(args)
+
+
+@SETTINGS
+@given(bad_toml())
+def test_bad_scenario_files_exit_2_with_one_line(case: tuple[str, list[str]]) -> None:
+    text, args = case
+    check_refused(args, text)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(bad_out())
+def test_bad_out_paths_exit_2_with_one_line(args: list[str]) -> None:
+    check_refused(args)
+
+
+def test_the_schema_bounds_are_what_the_generator_reads() -> None:
+    """The generator derives bad values from the schema: check it reads a known bound."""
+    _, bounds = _bounds(SECTIONS["mesh"].model_fields["size"].annotation,
+                        list(SECTIONS["mesh"].model_fields["size"].metadata))
+    assert bounds == {"gt": 0.0, "le": 1e3}
+    assert load_config("trapezoid-rigid").mesh.size > 0 and MAX_TRIANGLES > 0
