@@ -63,12 +63,16 @@ def _problems(c: Config) -> Iterator[str]:
     if st.release_angle_deg > st.trigger_angle_deg:
         yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
                f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
-    triangles = estimated_triangles(c)
-    if triangles > MAX_TRIANGLES:
-        smallest = m.size * math.sqrt(triangles / MAX_TRIANGLES)
-        yield (f"mesh.size = {m.size!r} gives about {triangles:.2g} triangles (at most "
-               f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}"
-               + (" or fewer mesh.layer_cells" if g.erodible_thickness > 0 else ""))
+    bulk, layer = estimated_triangles(c)
+    if layer > MAX_TRIANGLES / 2:
+        yield (f"geometry.erodible_thickness = {g.erodible_thickness!r} with mesh.layer_cells "
+               f"= {m.layer_cells} and geometry.bed_length = {g.bed_length!r} gives about "
+               f"{layer:.2g} triangles in the layer (at most {MAX_TRIANGLES // 2} allowed); "
+               "use a thicker or shorter layer, or fewer mesh.layer_cells")
+    elif bulk + layer > MAX_TRIANGLES:
+        smallest = m.size * math.sqrt(bulk / (MAX_TRIANGLES - layer))
+        yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles (at most "
+               f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}")
     st = c.surface_tension
     if st.release_angle_deg > st.trigger_angle_deg:
         yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
@@ -81,19 +85,19 @@ def _problems(c: Config) -> Iterator[str]:
             yield f"{key} = {_fmt(value)} is not implemented yet; use {use}"
 
 
-def estimated_triangles(c: Config) -> float:
-    """Triangles the mesher will make, from the domain's area and mesh.size (an equilateral
-    triangle of side h has area 0.433 h^2; the erodible layer has its own finer cells)."""
+def estimated_triangles(c: Config) -> tuple[float, float]:
+    """Triangles the mesher will make (bulk, erodible layer), from the areas and sizes (an
+    equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
     g, m = c.geometry, c.mesh
     if g.kind == "periodic-layer":
-        return 2 * (m.cells_x or g.length / m.size) * g.height / m.size
+        return 2 * (m.cells_x or g.length / m.size) * g.height / m.size, 0.0
     run = g.height / math.tan(math.radians(g.front_angle_deg)) if g.shape == "trapezoid" else 0
     area = g.width * g.height - 0.5 * g.height * min(run, g.width)
-    count = area / (0.433 * m.size**2)
+    layer = 0.0
     if g.erodible_thickness > 0:
         fine = g.erodible_thickness / m.layer_cells
-        count += g.bed_length * g.erodible_thickness / (0.433 * fine**2)
-    return count
+        layer = g.bed_length * g.erodible_thickness / (0.433 * fine**2)
+    return area / (0.433 * m.size**2), layer
 
 
 def inert_keys(c: Config) -> dict[str, str]:
