@@ -76,6 +76,8 @@ def test_sigkill_at_a_random_moment_then_resume(reference: dict, tmp_path: Path)
     proc.kill()
     proc.wait()
     assert summary(out)["status"] == "running", f"seed {seed}"   # killed: no chance to write
+    plotted = granflow("plot", out)                # figures from what the killed run wrote
+    assert plotted.returncode == 0 and (out / "plots" / "free_surface.png").is_file()
     done = granflow("resume", out, "--quiet")
     assert done.returncode == 0, f"seed {seed}: {done.stderr}"
     assert_same_result(summary(out), reference)

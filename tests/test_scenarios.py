@@ -50,3 +50,11 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
             assert (out / "profiles" / f"{kind}_t0.040.csv").exists()
         assert (out / "plots" / "free_surface.png").exists()
         assert (out / "plots" / "speed.gif").exists()
+    # `granflow plot` draws the same figures again from the files alone
+    figures = sorted(p.name for p in (out / "plots").iterdir())
+    assert figures
+    for p in (out / "plots").iterdir():
+        p.unlink()
+    again = run_cli(tmp_path, "plot", str(out))
+    assert again.returncode == 0, again.stderr
+    assert sorted(p.name for p in (out / "plots").iterdir()) == figures

@@ -2,7 +2,8 @@
 
     granflow scenarios
     granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
-    granflow resume RUN_DIR [--quiet]
+    granflow resume RUN_DIR [--set key=value ...] [--quiet]
+    granflow plot RUN_DIR
     granflow verify plug-flow [--table 1|2] [--cells quick|all] [--out DIR] [--quiet]
 
 The configuration is loaded and validated before anything is created; an invalid one is
@@ -21,7 +22,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from granflow import __version__
-from granflow.config import CUSTOM, ConfigError, config_to_toml, load_config
+from granflow.config import CUSTOM, Config, ConfigError, config_to_toml, load_config
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios.registry import builtin_scenarios
@@ -89,6 +90,13 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(command=_resume)
 
     p = commands.add_parser(
+        "plot", help="draw every figure and the animation of a run again, from its files",
+        description="Regenerate RUN_DIR/plots from config.toml, profiles/, diagnostics.csv "
+                    "and frames/ (also for a killed or running run).")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
+    p.set_defaults(command=_plot)
+
+    p = commands.add_parser(
         "verify", help="recompute a verification case of the paper",
         description="Recompute the paper's plug-flow Table 1 (fixed mesh) or Table 2 "
                     "(vertically moving mesh) against the 1D reference solver.")
@@ -112,6 +120,7 @@ def _scenarios(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     config = load_config(args.scenario, args.overrides)  # validate before creating anything
+    _check_solver(config)
     from granflow.simulation.runner import run_simulation
 
     label = Path(args.scenario).stem if config.scenario == CUSTOM else config.scenario
@@ -134,6 +143,7 @@ def _resume(args: argparse.Namespace) -> int:
     if status in OK_STATUSES:
         raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
     config = load_config(str(root / "config.toml"), args.overrides)
+    _check_solver(config)
     from granflow.io.checkpoint import read_checkpoint
     from granflow.simulation.runner import run_simulation
 
@@ -148,6 +158,24 @@ def _resume(args: argparse.Namespace) -> int:
         summary = run_simulation(config, run_dir, resume=state,
                                  progress=config.output.progress and not args.quiet)
     return _report(summary, run_dir)
+
+
+def _plot(args: argparse.Namespace) -> int:
+    from granflow.io.replot import plot_run
+
+    written = plot_run(args.run_dir)
+    print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}")
+    return 0
+
+
+def _check_solver(config: Config) -> None:
+    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
+    if config.numerics.linear_solver == "pardiso":
+        from granflow.fem.linalg import pardiso_available
+
+        if not pardiso_available():
+            raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
+                              "'granflow[fast]'); use 'auto' or 'umfpack'")
 
 
 def _status(root: Path) -> str | None:

@@ -113,7 +113,8 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
             "geometry.bed_length", "it describes a column, and geometry.kind = 'periodic-layer'")
         add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
-            "boundary.normal_load", "the periodic layer has a no-slip bed and no walls")
+            "boundary.normal_load numerics.eps_friction",
+            "the periodic layer has a no-slip bed and no walls")
         add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells "
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
@@ -136,8 +137,10 @@ def inert_keys(c: Config) -> dict[str, str]:
         if not t.stop_at_rest:
             add("time.rest_fraction time.rest_duration", "time.stop_at_rest = false")
     if t.dt is not None:
-        add("time.dt_init time.dt_max time.dt_growth time.adaptive time.error_tol "
-            "time.error_floor numerics.tol_init", "time.dt sets a fixed step")
+        add("time.dt_init time.dt_max time.dt_growth time.error_tol time.error_floor "
+            "numerics.tol_init", "time.dt sets a fixed step")
+        if t.adaptive:   # (adaptive = false with a fixed dt says the same thing twice: fine)
+            add("time.adaptive", "time.dt sets a fixed step; unset it for adaptive steps")
     elif t.adaptive:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
     else:

@@ -13,6 +13,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 
+from granflow.geometry.domains import column  # noqa: E402
+from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
@@ -35,11 +37,23 @@ def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[floa
     return out
 
 
-def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) -> None:
-    """Free surfaces, interfaces, velocity sections, front/energy history and a GIF."""
+def initial_outline(config: Any) -> np.ndarray:
+    """The column at t = 0 as a closed polyline (drawn dashed for reference)."""
+    g = config.geometry
+    poly = column(g.shape, g.width, g.height, g.front_angle_deg, g.erodible_thickness,
+                  g.bed_length)
+    points = np.asarray(poly.points, dtype=float)
+    return np.vstack([points, points[:1]])
+
+
+def plot_collapse(run_dir: RunDir, config: Any) -> None:
+    """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
+    the run directory's files alone (profiles/, diagnostics.csv, frames/)."""
     times = list(config.time.output_times)
-    width, height = config.geometry.width, config.geometry.height
+    height = config.geometry.height
+    outline = initial_outline(config)
     fig, ax = plt.subplots(figsize=(8, 3))
+    ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, prof in _profiles(run_dir, "free_surface", times):
         ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
     ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect="equal")
@@ -47,6 +61,7 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
     save_figure(fig, run_dir.path("plots/free_surface.png"))
 
     fig, ax = plt.subplots(figsize=(8, 3))
+    ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, prof in _profiles(run_dir, "interface", times):
         line, = ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
         surf = _profiles(run_dir, "free_surface", [t])
@@ -86,8 +101,9 @@ def plot_collapse(run_dir: RunDir, config: Any, frames: list[dict[str, Any]]) ->
         a2.set(xlabel="t (s)", ylabel="kinetic energy (J/m)", title="Kinetic energy")
         save_figure(fig, run_dir.path("plots/front_and_energy.png"))
 
+    frames = read_frames(run_dir.root)
     if frames:
-        _animate(run_dir.path("plots/speed.gif"), frames, width, height)
+        _animate(run_dir.path("plots/speed.gif"), frames, outline, height)
 
 
 def _legend(ax: plt.Axes) -> None:
@@ -95,7 +111,8 @@ def _legend(ax: plt.Axes) -> None:
         ax.legend(fontsize=7)
 
 
-def _animate(path: Path, frames: list[dict[str, Any]], width: float, height: float) -> None:
+def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
+             height: float) -> None:
     xmax = max(f["xy"][:, 0].max() for f in frames) * 1.02
     vmax = max(float(f["speed"].max()) for f in frames) or 1.0
     fig, ax = plt.subplots(figsize=(8, 2.8))
@@ -106,6 +123,7 @@ def _animate(path: Path, frames: list[dict[str, Any]], width: float, height: flo
         ax.tripcolor(f["xy"][:, 0], f["xy"][:, 1], f["tri"], facecolors=f["speed"],
                      vmin=0, vmax=vmax, cmap="viridis", edgecolors="none")
         ax.plot(f["interface"][:, 0], f["interface"][:, 1], "r-", lw=1)
+        ax.plot(*outline.T, "--", color="0.6", lw=0.8)
         ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal",
                title=f"|u| (0-{vmax:.2f} m/s), red: static/flowing interface, t = {f['t']:.3f} s")
 

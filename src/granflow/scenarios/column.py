@@ -50,7 +50,6 @@ class ColumnCollapse:
         default_factory=lambda: {"t": [], "front_x": [], "front_speed": [],
                                  "flowing_fraction": [],
                                  "kinetic_energy": [], "wall_height": []})
-    frames: list[dict[str, Any]] = field(default_factory=list)
     remeshes: int = 0
     fresh_quality: float = 1.0
     remesh_changes: list[float] = field(default_factory=list)  # relative area, per remesh
@@ -98,10 +97,10 @@ class ColumnCollapse:
     def save_state(self) -> dict[str, Any]:
         """The scenario's share of the run state: the mesh (pickled with its boundary
         labels, which deposition changes), the flow history, the mover, the diagnostics
-        history and the animation frames."""
+        history (animation frames are files, ``frames/``)."""
         return {"mesh": pickle.dumps(self.mesh), "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), "history": copy.deepcopy(self.history),
-                "frames": list(self.frames), "remeshes": self.remeshes,
+                "remeshes": self.remeshes,
                 "fresh_quality": self.fresh_quality, "remesh_changes": list(self.remesh_changes),
                 "remesh_restored": list(self.remesh_restored)}
 
@@ -114,7 +113,6 @@ class ColumnCollapse:
         self.mesh, self.solver, self.mover = mesh, solver, mover
         self.simulation.replace(solver, mover)
         self.history = copy.deepcopy(state["history"])
-        self.frames = list(state["frames"])
         self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
         self.remesh_changes = list(state["remesh_changes"])
         self.remesh_restored = list(state["remesh_restored"])
@@ -198,13 +196,13 @@ class ColumnCollapse:
         run_dir.write_csv(f"profiles/interface_t{t:.3f}.csv", ["x", "z"],
                           np.column_stack([stations, self.interface(stations)]).tolist())
 
-    def snapshot(self, sim: Simulation) -> None:
+    def frame(self, sim: Simulation) -> dict[str, Any]:
         """A frame of the animation: mesh, cell speeds and the interface."""
         speed, _ = cell_means(self.mesh, ngs.Norm(self.solver.velocity))
         xy = self.mesh.ngmesh.Coordinates().copy()
         stations = np.linspace(0.0, xy[:, 0].max(), 120)
-        self.frames.append({"t": sim.t, "xy": xy, "tri": triangles(self.mesh), "speed": speed,
-                            "interface": np.column_stack([stations, self.interface(stations)])})
+        return {"t": sim.t, "xy": xy, "tri": triangles(self.mesh), "speed": speed,
+                "interface": np.column_stack([stations, self.interface(stations)])}
 
     def summary(self, result: RunResult) -> dict[str, Any]:
         h = {k: np.asarray(v) for k, v in self.history.items()}
@@ -239,7 +237,7 @@ class ColumnCollapse:
     def plot(self, run_dir: RunDir) -> None:
         from granflow.io.collapse_plots import plot_collapse
 
-        plot_collapse(run_dir, self.config, self.frames)
+        plot_collapse(run_dir, self.config)
 
 
 def _highest_crossing(polyline: np.ndarray, x: float) -> float | None:

@@ -25,6 +25,7 @@ from granflow.diagnostics.state import FLOWING_SPEED, state_measures
 from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.checkpoint import write_checkpoint
+from granflow.io.frames import write_frame
 from granflow.io.run_dir import RunDir, atomic_write_bytes
 from granflow.io.vtk import VtkSeries
 from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
@@ -153,8 +154,17 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
                             if x > sim.t + 1e-9 * max(1.0, x)]
     observers = [record, bar, at_times,
                  EveryNSteps(config.output.vtk_every, lambda s: write_fields(series, problem, s.t))]
-    snapshot = getattr(problem, "snapshot", None)
-    animation = TimeInterval(ANIMATION_INTERVAL_S, snapshot) if snapshot is not None else None
+    frame = getattr(problem, "frame", None)
+    frames_written = outputs.get("frames_written", 0)
+
+    def write_animation_frame(s: Simulation) -> None:
+        nonlocal frames_written
+        assert frame is not None
+        write_frame(run_dir, frames_written, frame(s))
+        frames_written += 1
+
+    animation = (TimeInterval(ANIMATION_INTERVAL_S, write_animation_frame)
+                 if frame is not None else None)
     if animation is not None:
         animation.next = outputs.get("animation_next", animation.next)
         observers.append(animation)
@@ -166,7 +176,8 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
             outputs={"volume0": volume0, "diagnostic_rows": rows,
                      "pending_times": list(at_times.pending),
                      "vtk_entries": list(series.entries),
-                     "animation_next": animation.next if animation is not None else None}))
+                     "animation_next": animation.next if animation is not None else None,
+                     "frames_written": frames_written}))
 
     sim.checkpoint, sim.checkpoint_every = checkpoint, config.output.checkpoint_every
     if resume is None:

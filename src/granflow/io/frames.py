@@ -1,0 +1,37 @@
+"""Animation frames on disk: ``frames/frame_NNNNN.npz`` (mesh, cell speeds, interface).
+
+Written as the run goes (every 0.02 s of simulated time), so that the animation can be
+made again from the files alone (``granflow plot``), also for a killed run, and no frame
+has to stay in memory or in a checkpoint.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from granflow.io.run_dir import RunDir
+
+FRAMES = "frames"
+
+
+def write_frame(run_dir: RunDir, index: int, frame: dict[str, Any]) -> None:
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **{k: np.asarray(v) for k, v in frame.items()})
+    run_dir.write_bytes(f"{FRAMES}/frame_{index:05d}.npz", buffer.getvalue())
+
+
+def read_frames(root: Path) -> list[dict[str, Any]]:
+    """Every readable frame of the run in ``root``, in time order."""
+    frames = []
+    for path in sorted((Path(root) / FRAMES).glob("frame_*.npz")):
+        try:
+            with np.load(path) as data:
+                frames.append({k: data[k] for k in data.files})
+        except (OSError, ValueError, EOFError):   # a file cut by a kill (not renamed yet)
+            continue
+    frames.sort(key=lambda f: float(f["t"]))
+    return frames
