@@ -109,6 +109,11 @@ def test_verify_exits_non_zero_when_a_cell_misses_its_bound(
 
     monkeypatch.setitem(verify.QUICK_CELLS, 1, [(0.25, 2.5e-2)])   # 3 cheap cells
     assert main(["verify", "plug-flow", "--out", str(tmp_path / "ok"), "--quiet"]) == 0
+    capsys.readouterr()
     monkeypatch.setattr(verify, "BOUND", 1e-3)       # no cell can meet this bound
-    assert main(["verify", "plug-flow", "--out", str(tmp_path / "bad"), "--quiet"]) == 1
+    assert main(["verify", "plug-flow", "--out", str(tmp_path / "bad"), "--workers", "2",
+                 "--quiet"]) == 1                   # the same cells, as Dask tasks
     assert capsys.readouterr().err.count("missed its bound") == 3
+    columns = slice(0, 7)   # the cells' figures (not the wall time, not the verdict)
+    assert [r.split(",")[columns] for r in (tmp_path / "ok/table1.csv").read_text().split()] == [
+        r.split(",")[columns] for r in (tmp_path / "bad/table1.csv").read_text().split()]

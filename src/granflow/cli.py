@@ -4,6 +4,7 @@
     granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
     granflow plot RUN_DIR
+    granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
     granflow verify plug-flow [--table 1|2] [--cells quick|all] [--out DIR] [--quiet]
 
 The configuration is loaded and validated before anything is created; an invalid one is
@@ -26,6 +27,7 @@ from granflow.config import CUSTOM, Config, ConfigError, config_to_toml, load_co
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios.registry import builtin_scenarios
+from granflow.sweep import SweepError
 
 DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without an argument
 RUNS_FOLDER = Path("runs")
@@ -37,7 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         return args.command(args)
-    except (ConfigError, RunDirError, CheckpointError) as err:
+    except (ConfigError, RunDirError, CheckpointError, SweepError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -90,6 +92,22 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(command=_resume)
 
     p = commands.add_parser(
+        "sweep", help="run a parameter sweep on Dask (one run directory per run)",
+        description="Run the product of a sweep file's [vary] lists on a Dask LocalCluster "
+                    "(or an existing scheduler) and gather sweep.csv. Rerunning skips "
+                    "finished runs. SWEEP is a TOML file or a built-in study "
+                    "(aspect-ratio).")
+    p.add_argument("sweep", metavar="SWEEP.toml|STUDY")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running Dask scheduler (tcp://host:8786); default: "
+                        "a LocalCluster on this machine")
+    p.add_argument("--workers", type=_positive_int, default=2, metavar="N",
+                   help="worker processes of the LocalCluster (one thread each; default 2)")
+    p.add_argument("--out", type=Path, help="sweep folder (default: runs/sweep-<name>)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(command=_sweep)
+
+    p = commands.add_parser(
         "plot", help="draw every figure and the animation of a run again, from its files",
         description="Regenerate RUN_DIR/plots from config.toml, profiles/, diagnostics.csv "
                     "and frames/ (also for a killed or running run).")
@@ -105,6 +123,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--cells", choices=["quick", "all"], default="quick",
                    help="'quick': a few coarse cells; 'all': every cell of the table")
     p.add_argument("--out", type=Path, help="output folder (default: runs/verify-...-<time>)")
+    p.add_argument("--workers", type=_positive_int, default=1, metavar="N",
+                   help="run the cells on a Dask LocalCluster of N processes (default 1: "
+                        "in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the cells on this Dask scheduler")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_verify)
     return parser
@@ -160,6 +182,37 @@ def _resume(args: argparse.Namespace) -> int:
     return _report(summary, run_dir)
 
 
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if not 1 <= value <= 256:
+        raise argparse.ArgumentTypeError(f"expected a whole number in [1, 256], got {value}")
+    return value
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from granflow.sweep import Cluster, load_sweep, run_sweep
+
+    sweep = load_sweep(args.sweep)        # validated before any worker starts
+    out = args.out if args.out is not None else RUNS_FOLDER / f"sweep-{sweep.name}"
+    if str(out).strip() == "":
+        raise RunDirError("--out must name a folder for the sweep (got an empty path)")
+    with Cluster(args.scheduler, args.workers) as cluster:
+        where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
+        print(f"granflow: sweep {sweep.name}: {len(sweep.runs())} runs on {where}; "
+              f"dashboard {cluster.dashboard or 'not available'} -> {out}")
+        result = run_sweep(sweep, out, cluster.client, progress=not args.quiet)
+    print(f"sweep {sweep.name}: {len(result.rows)} runs ({result.skipped} skipped), "
+          f"{len(result.failed)} failed, wall time {result.wall_time_s:.1f} s -> "
+          f"{result.csv_path}")
+    for row in result.failed:
+        print(f"granflow: run {row['run']} {row['status']}: {row.get('message', '')}",
+              file=sys.stderr)
+    return 1 if result.failed else 0
+
+
 def _plot(args: argparse.Namespace) -> int:
     from granflow.io.replot import plot_run
 
@@ -199,8 +252,15 @@ def _verify(args: argparse.Namespace) -> int:
     from granflow.verify import BOUND, VOLUME_BOUND, verify_plug_flow
 
     out = args.out or _fresh_folder(f"verify-{args.case}-table{args.table}")
-    outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
-                               progress=not args.quiet)
+    if args.workers > 1 or args.scheduler:
+        from granflow.sweep import Cluster
+
+        with Cluster(args.scheduler, args.workers) as cluster:
+            outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
+                                       progress=not args.quiet, client=cluster.client)
+    else:
+        outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
+                                   progress=not args.quiet)
     print(f"verify {args.case}: table {args.table} ({args.cells} cells) -> {outcome.path}")
     for cell in outcome.failed:
         print(f"granflow: cell eps = {cell.eps:g}, dt = {cell.dt:g}, dZ = {cell.dZ:g} missed "

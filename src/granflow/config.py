@@ -149,6 +149,8 @@ class Initial(_Section):
 class Mesh(_Section):
     size: Annotated[float, Field(gt=0, le=1e3)]  # target edge length (m)
     cells_x: Annotated[int, Field(ge=2, le=10**5)] | None  # periodic layer; None = length/size
+    # column: cells across its smaller side (sets size = min(width, height) / cells_across)
+    cells_across: Annotated[int, Field(ge=1, le=1000)] | None
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
     failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
     layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
@@ -267,6 +269,14 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
             section, name_ = key.split(".")
             raise ConfigError(f"{key} = {_fmt(data[section][name_])} has no effect here: "
                               f"{inert[key]}; remove it")
+    cells = config.mesh.cells_across
+    if cells is not None and config.geometry.kind == "column":
+        size = min(config.geometry.width, config.geometry.height) / cells
+        if "mesh.size" in changed and not math.isclose(config.mesh.size, size):
+            raise ConfigError(f"mesh.size = {config.mesh.size!r} and mesh.cells_across = "
+                              f"{cells} both set the mesh size; set one of them")
+        data["mesh"]["size"] = size      # the resolution follows the column
+        config = _validate(data)
     return config
 
 

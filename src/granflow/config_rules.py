@@ -119,7 +119,7 @@ def inert_keys(c: Config) -> dict[str, str]:
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
             "surface_tension.gamma0 surface_tension.trigger_angle_deg "
-            "surface_tension.release_angle_deg", "it applies to columns only")
+            "surface_tension.release_angle_deg mesh.cells_across", "it applies to columns only")
         if c.numerics.mesh_velocity == "fixed":
             add("numerics.mesh_penalty numerics.ale_extrapolation",
                 "numerics.mesh_velocity = 'fixed' (the mesh does not move)")

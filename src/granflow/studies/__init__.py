@@ -1,0 +1,1 @@
+"""Built-in sweep files (``granflow sweep NAME``)."""
