@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from granflow.sweep import load_sweep
+from granflow.config import load_config
+from granflow.sweep import builtin_studies, load_sweep
 
 TINY = """base = "rectangle-rigid"
 [set]
@@ -95,8 +96,11 @@ def test_an_external_scheduler_with_two_workers(tmp_path: Path) -> None:
 
 
 def test_the_built_in_study_loads_and_a_bad_sweep_file_is_one_line(tmp_path: Path) -> None:
-    study = load_sweep("aspect-ratio")
-    assert len(study.runs()) >= 6 and study.base == "rectangle-rigid"
+    for name in builtin_studies():     # every run of every built-in study is valid
+        study = load_sweep(name)
+        assert len(study.runs()) >= 6 and study.base == "rectangle-rigid"
+        for run in study.runs():
+            load_config(run.base, run.overrides)
     (tmp_path / "bad.toml").write_text('base = "rectangle-rigid"\n[vary]\n"mesh.sise" = [1]\n')
     done = sweep_cli("bad.toml", cwd=tmp_path)
     assert done.returncode == 2 and done.stderr.count("\n") == 1
