@@ -12,7 +12,8 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from granflow.config import SECTIONS, _describe
+from granflow.config import SECTIONS
+from granflow.config_messages import describe as _describe
 
 HEADER = """# Configuration keys
 

@@ -21,15 +21,14 @@ import tomllib
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
-from types import NoneType, UnionType
-from typing import Annotated, Any, Literal, Union, get_args, get_origin
+from types import NoneType
+from typing import Annotated, Any, Literal, get_args, get_origin
 
-import annotated_types as at
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
-from pydantic.fields import FieldInfo
 from pydantic_core import PydanticCustomError
 
+from granflow.config_messages import one_line
 from granflow.config_rules import _fmt, _problems, inert_keys
 from granflow.scenarios.registry import builtin_scenarios, scenario_text
 
@@ -395,58 +394,4 @@ def _validate(data: dict[str, Any]) -> Config:
     try:
         return Config.model_validate(data)
     except ValidationError as err:
-        raise ConfigError(_one_line(err.errors()[0], data)) from None
-
-
-def _one_line(error: Any, data: dict[str, Any]) -> str:
-    """``section.key = value: must be ...`` from the first pydantic error."""
-    loc = error["loc"]
-    if error["type"] == "granflow_config":
-        return error["ctx"]["message"]
-    if len(loc) < 2 or loc[0] not in SECTIONS:
-        return f"{'.'.join(map(str, loc)) or 'configuration'}: {error['msg']}"
-    section, key = loc[0], loc[1]
-    model = SECTIONS[section]
-    if key not in model.model_fields:
-        return f"unknown configuration key '{section}.{key}'"
-    field = model.model_fields[key]
-    allowed = _describe(field.annotation, field.metadata)
-    if error["type"] == "missing":
-        return f"{section}.{key} is not set: it must be {allowed}"
-    value = data.get(section, {}).get(key, error.get("input"))
-    return f"{section}.{key} = {_fmt(value)}: must be {allowed}"
-
-
-def _describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
-    """Plain words for the values a field accepts, read from its type and bounds."""
-    origin, args = get_origin(tp), get_args(tp)
-    if origin in (Union, UnionType):
-        text = " or ".join(_describe(a) for a in args if a is not NoneType)
-        return text + (" or none" if NoneType in args else "")
-    if origin is Annotated:
-        return _describe(args[0], [*metadata, *tp.__metadata__])
-    if origin is Literal:
-        names = [repr(a) for a in args]
-        return names[0] if len(names) == 1 else "one of " + ", ".join(names)
-    if tp is bool:
-        return "true or false"
-    if origin is list:
-        return "a list of numbers"
-    if tp is str:
-        return "a string"
-    bounds: dict[str, float] = {}
-    for item in metadata:
-        for m in item.metadata if isinstance(item, FieldInfo) else [item]:
-            for cls, sym in ((at.Gt, "gt"), (at.Ge, "ge"), (at.Lt, "lt"), (at.Le, "le")):
-                if isinstance(m, cls):
-                    bounds[sym] = getattr(m, sym)
-    noun = "an integer" if tp is int else "a number"
-    lo = ("(", bounds["gt"]) if "gt" in bounds else ("[", bounds["ge"]) if "ge" in bounds else None
-    hi = (")", bounds["lt"]) if "lt" in bounds else ("]", bounds["le"]) if "le" in bounds else None
-    if lo and hi:
-        return f"{noun} in {lo[0]}{lo[1]:g}, {hi[1]:g}{hi[0]}"
-    if lo:
-        return f"{noun} {'>' if lo[0] == '(' else '>='} {lo[1]:g}"
-    if hi:
-        return f"{noun} {'<' if hi[0] == ')' else '<='} {hi[1]:g}"
-    return noun
+        raise ConfigError(one_line(err.errors()[0], data, SECTIONS)) from None

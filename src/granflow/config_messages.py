@@ -1,0 +1,68 @@
+"""One-line messages for invalid configuration values, read from the schema's types and
+bounds: ``section.key = value: must be a number in (0, 1000]``."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from types import NoneType, UnionType
+from typing import Annotated, Any, Literal, Union, get_args, get_origin
+
+import annotated_types as at
+from pydantic import BaseModel
+from pydantic.fields import FieldInfo
+
+from granflow.config_rules import _fmt
+
+
+def one_line(error: Any, data: dict[str, Any], sections: Mapping[str, type[BaseModel]]) -> str:
+    """``section.key = value: must be ...`` from the first pydantic error."""
+    loc = error["loc"]
+    if error["type"] == "granflow_config":
+        return error["ctx"]["message"]
+    if len(loc) < 2 or loc[0] not in sections:
+        return f"{'.'.join(map(str, loc)) or 'configuration'}: {error['msg']}"
+    section, key = loc[0], loc[1]
+    model = sections[section]
+    if key not in model.model_fields:
+        return f"unknown configuration key '{section}.{key}'"
+    field = model.model_fields[key]
+    allowed = describe(field.annotation, field.metadata)
+    if error["type"] == "missing":
+        return f"{section}.{key} is not set: it must be {allowed}"
+    value = data.get(section, {}).get(key, error.get("input"))
+    return f"{section}.{key} = {_fmt(value)}: must be {allowed}"
+
+
+def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
+    """Plain words for the values a field accepts, read from its type and bounds."""
+    origin, args = get_origin(tp), get_args(tp)
+    if origin in (Union, UnionType):
+        text = " or ".join(describe(a) for a in args if a is not NoneType)
+        return text + (" or none" if NoneType in args else "")
+    if origin is Annotated:
+        return describe(args[0], [*metadata, *tp.__metadata__])
+    if origin is Literal:
+        names = [repr(a) for a in args]
+        return names[0] if len(names) == 1 else "one of " + ", ".join(names)
+    if tp is bool:
+        return "true or false"
+    if origin is list:
+        return "a list of numbers"
+    if tp is str:
+        return "a string"
+    bounds: dict[str, float] = {}
+    for item in metadata:
+        for m in item.metadata if isinstance(item, FieldInfo) else [item]:
+            for cls, sym in ((at.Gt, "gt"), (at.Ge, "ge"), (at.Lt, "lt"), (at.Le, "le")):
+                if isinstance(m, cls):
+                    bounds[sym] = getattr(m, sym)
+    noun = "an integer" if tp is int else "a number"
+    lo = ("(", bounds["gt"]) if "gt" in bounds else ("[", bounds["ge"]) if "ge" in bounds else None
+    hi = (")", bounds["lt"]) if "lt" in bounds else ("]", bounds["le"]) if "le" in bounds else None
+    if lo and hi:
+        return f"{noun} in {lo[0]}{lo[1]:g}, {hi[1]:g}{hi[0]}"
+    if lo:
+        return f"{noun} {'>' if lo[0] == '(' else '>='} {lo[1]:g}"
+    if hi:
+        return f"{noun} {'<' if hi[0] == ')' else '<='} {hi[1]:g}"
+    return noun
