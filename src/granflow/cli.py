@@ -15,7 +15,6 @@ imported only by the command that needs them, so the CLI starts fast.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from collections.abc import Sequence
@@ -161,7 +160,7 @@ def _resume(args: argparse.Namespace) -> int:
     root = args.run_dir
     if not RunDir.is_run_dir(root):
         raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
-    status = _status(root)
+    status = RunDir.status(root)
     if status in OK_STATUSES:
         raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
     config = load_config(str(root / "config.toml"), args.overrides)
@@ -229,13 +228,6 @@ def _check_solver(config: Config) -> None:
         if not pardiso_available():
             raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
                               "'granflow[fast]'); use 'auto' or 'umfpack'")
-
-
-def _status(root: Path) -> str | None:
-    try:
-        return json.loads((root / "summary.json").read_text()).get("status")
-    except (OSError, ValueError, AttributeError):
-        return None
 
 
 def _report(summary: dict[str, Any], run_dir: RunDir) -> int:

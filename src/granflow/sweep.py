@@ -154,7 +154,7 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
     from granflow.simulation.runner import run_simulation
 
     try:
-        status = _status(folder)
+        status = RunDir.status(folder)
         if status in ("running", "interrupted") and (folder / "checkpoint").is_dir():
             run_dir = RunDir(folder)
             summary = run_simulation(config, run_dir, progress=False,
@@ -171,13 +171,6 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
     return row | _figures(summary)
 
 
-def _status(folder: Path) -> str | None:
-    try:
-        return json.loads((folder / "summary.json").read_text()).get("status")
-    except (OSError, ValueError, AttributeError):
-        return None
-
-
 def _figures(summary: dict[str, Any]) -> dict[str, Any]:
     return {"status": summary.get("status", "failed"), "message": summary.get("message", ""),
             **{k: summary.get(k) for k in FIGURES}}
@@ -186,7 +179,7 @@ def _figures(summary: dict[str, Any]) -> dict[str, Any]:
 def finished_row(run: SweepRun, root: Path) -> dict[str, Any] | None:
     """The row of a run that already finished in ROOT (skipped by a rerun), else None."""
     folder = root / run.name
-    if _status(folder) not in FINISHED:
+    if RunDir.status(folder) not in FINISHED:
         return None
     summary = json.loads((folder / "summary.json").read_text())
     return {"run": run.name, **run.varied} | _figures(summary)
@@ -225,7 +218,7 @@ def run_sweep(sweep: Sweep, out: Path, client: Any,
 
     start = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
-    (out / "sweep.toml").write_text(_describe(sweep))
+    atomic_write_text(out / "sweep.toml", _describe(sweep))
     runs = sweep.runs()
     rows: dict[str, dict[str, Any]] = {}
     todo = []

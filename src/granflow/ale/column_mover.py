@@ -64,14 +64,8 @@ class ColumnMover(AleMover):
         self.correction_net = 0.0
 
     def inherit(self, other: ColumnMover) -> None:
-        """Carry the reference area and the counters over a remesh."""
-        self.initial_area = other.initial_area
-        self.relabelled_segments = other.relabelled_segments
-        self.limited_steps = other.limited_steps
-        self.velocity_solves = other.velocity_solves
-        self.correction_abs, self.correction_net = other.correction_abs, other.correction_net
-        if self.tension is not None and other.tension is not None:
-            self.tension.state = other.tension.state
+        """Carry the reference area, the counters and the tension switch over a remesh."""
+        self.restore_state(other.save_state())
 
     def save_state(self) -> dict[str, object]:
         """Reference area, counters and the surface-tension switch (for a checkpoint)."""

@@ -166,6 +166,14 @@ class RunDir:
         except (OSError, UnicodeDecodeError):
             return False
 
+    @staticmethod
+    def status(path: Path) -> str | None:
+        """The ``status`` in ``path``/summary.json, or None without a readable one."""
+        try:
+            return json.loads((Path(path) / "summary.json").read_text()).get("status")
+        except (OSError, ValueError, AttributeError):
+            return None
+
     def path(self, relpath: str | Path) -> Path:
         """Absolute path of ``relpath`` inside the run directory; its parent folders exist."""
         target = (self.root / relpath).resolve()
