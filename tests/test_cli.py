@@ -46,8 +46,8 @@ def test_invalid_set_exits_2_with_one_line_and_creates_nothing(granflow_cli,
     (["run", "--set", "material.friction_angle_deg=90"], "material.friction_angle_deg = 90"),
     (["run", "no-such-scenario"], "unknown scenario 'no-such-scenario'"),
     (["run", "missing.toml"], "scenario file 'missing.toml' not found"),
-    (["run", "trapezoid-rigid", "--set", "material.rheology=mu-i", "--out", "x"],
-     "not implemented yet"),
+    (["run", "trapezoid-rigid", "--set", "material.rheology=mu-i", "--set",
+      "material.mu_2_deg=20", "--out", "x"], "material.mu_2_deg = 20.0 must be greater than"),
 ])
 def test_config_errors_exit_2_before_creating_anything(
         args: list[str], expected: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,

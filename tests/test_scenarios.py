@@ -16,6 +16,8 @@ SHORT = {
                         "time.output_times=[2e-3]"],
     "trapezoid-erodible": ["mesh.size=0.05", "time.dt=1e-3", "numerics.tol=1e-3",
                            "time.t_end=0.005", "time.output_times=[]"],
+    "incline-mu-i": ["mesh.size=0.0025", "time.dt=0.01", "time.t_end=0.05",
+                     "time.output_times=[0.05]"],
 }
 
 

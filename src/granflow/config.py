@@ -101,6 +101,10 @@ class Material(_Section):
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
     rheology: Literal["drucker-prager", "mu-i"]
     gravity: Annotated[float, Field(gt=0, le=100)]  # g (m/s^2)
+    mu_2_deg: Angle  # mu(I): mu_2 = tan(angle), the friction at large I
+    i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
+    grain_diameter: Annotated[float, Field(gt=0, le=10)]  # mu(I): d (m)
+    grain_density: Annotated[float, Field(ge=1, le=1e5)]  # mu(I): rho_s (kg/m^3)
 
     @property
     def mu_s(self) -> float:
@@ -130,6 +134,8 @@ class Boundary(_Section):
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
     penalty: Penalty  # enforces u.n = 0 on the bed and the wall
     normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
+    channel_width: Annotated[float, Field(gt=0, le=1e4)] | None  # side walls W; None = none
+    side_wall_friction_deg: Angle  # Coulomb mu_w = tan(angle) of the side walls
 
     @property
     def mu_bed(self) -> float:

@@ -18,7 +18,7 @@ MAX_TRIANGLES = 200_000   # beyond this a direct solve needs tens of GB (benchma
 
 
 def _problems(c: Config) -> Iterator[str]:
-    """Cross-field checks, then choices whose names are reserved but not implemented yet."""
+    """Cross-field checks."""
     t, g, m = c.time, c.geometry, c.mesh
     if t.dt_init > t.dt_max:
         yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
@@ -73,16 +73,15 @@ def _problems(c: Config) -> Iterator[str]:
         smallest = m.size * math.sqrt(bulk / (MAX_TRIANGLES - layer))
         yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles (at most "
                f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}")
-    st = c.surface_tension
-    if st.release_angle_deg > st.trigger_angle_deg:
-        yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
-               f"surface_tension.trigger_angle_deg = {st.trigger_angle_deg!r}")
-    not_yet = {
-        "material.rheology": (c.material.rheology, "mu-i", "'drucker-prager'"),
-    }
-    for key, (value, reserved, use) in not_yet.items():
-        if value == reserved:
-            yield f"{key} = {_fmt(value)} is not implemented yet; use {use}"
+    mat = c.material
+    if mat.rheology == "mu-i":
+        if mat.mu_2_deg <= mat.friction_angle_deg:
+            yield (f"material.mu_2_deg = {mat.mu_2_deg!r} must be greater than "
+                   f"material.friction_angle_deg = {mat.friction_angle_deg!r} (mu(I) rises "
+                   "from mu_s to mu_2)")
+        if mat.grain_density < mat.density:
+            yield (f"material.grain_density = {mat.grain_density!r} must be at least "
+                   f"material.density = {mat.density!r} (their ratio is the packing fraction)")
 
 
 def estimated_triangles(c: Config) -> tuple[float, float]:
@@ -109,9 +108,14 @@ def inert_keys(c: Config) -> dict[str, str]:
     def add(keys: str, reason: str) -> None:
         out.update(dict.fromkeys(keys.split(), reason))
 
+    if c.material.rheology == "drucker-prager":
+        add("material.mu_2_deg material.i0 material.grain_diameter material.grain_density",
+            "it is a parameter of mu(I), and material.rheology = 'drucker-prager'")
     if g.kind == "periodic-layer":
         add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
             "geometry.bed_length", "it describes a column, and geometry.kind = 'periodic-layer'")
+        add("boundary.channel_width boundary.side_wall_friction_deg",
+            "the periodic layer is infinitely wide (the plane shear of section 4)")
         add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
             "boundary.normal_load numerics.eps_friction",
             "the periodic layer has a no-slip bed and no walls")
@@ -129,6 +133,8 @@ def inert_keys(c: Config) -> dict[str, str]:
         if g.erodible_thickness == 0:
             add("geometry.bed_length mesh.layer_cells",
                 "it describes the erodible layer, and geometry.erodible_thickness = 0")
+        if c.boundary.channel_width is None:
+            add("boundary.side_wall_friction_deg", "boundary.channel_width = none (no side walls)")
         if g.shape == "rectangle":
             add("geometry.front_angle_deg", "geometry.shape = 'rectangle' has a vertical front")
         if not st.enabled:

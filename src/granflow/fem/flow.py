@@ -24,7 +24,7 @@ from granflow.fem.nonlinear import (
     ResidualSystem,
 )
 from granflow.fem.spaces import taylor_hood, vector_p2
-from granflow.physics import DruckerPrager
+from granflow.physics import Rheology, SideWallFriction
 
 SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 
@@ -36,12 +36,13 @@ class FlowSolver:
     previous velocity is carried by the nodes (u^n o A^{-1}) without interpolation.
     """
 
-    def __init__(self, mesh: ngs.Mesh, *, rheology: DruckerPrager, density: float,
+    def __init__(self, mesh: ngs.Mesh, *, rheology: Rheology, density: float,
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
                  penalty: float = 0.0, linearization: str = "picard",
                  linear_solver: str = "umfpack", initial_guess: str = "previous",
-                 surface_tension_on: str | None = None) -> None:
+                 surface_tension_on: str | None = None,
+                 side_walls: SideWallFriction | None = None) -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -61,7 +62,7 @@ class FlowSolver:
         self.terms = momentum_terms(
             density=density, dt=self.dt, previous=self.previous.components[0],
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
-            walls=walls, penalty=penalty, surface_traction=traction)
+            walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls)
         freedofs = self.space.FreeDofs()
         self.nonlinear = NonlinearSolver(
             picard=FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),

@@ -22,7 +22,7 @@ from typing import Protocol
 import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS
-from granflow.physics import CoulombFriction, DruckerPrager
+from granflow.physics import CoulombFriction, Rheology, SideWallFriction
 
 
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -100,9 +100,9 @@ class Convection(_LhsOnly):
 @dataclass(frozen=True)
 class ViscoplasticStress(_LhsOnly):
     """(2 eta + kappa(p_lin) / sqrt(|D u_lin|^2 + eps^2)) Du : Dv, the regularised law
-    (2.13) with kappa = sqrt(2) mu_s [p]_+ (2.4)."""
+    (2.13) with kappa = sqrt(2) mu_s [p]_+ (2.4), or with mu(I) in place of mu_s."""
 
-    rheology: DruckerPrager
+    rheology: Rheology
 
     def viscosity(self, u_lin: ngs.CoefficientFunction,
                   p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -200,6 +200,18 @@ class NormalPenalty(_LhsOnly):
 
 
 @dataclass(frozen=True)
+class ChannelSideWalls(_LhsOnly):
+    """(2 mu_w / W) [p_lin]_+ u . v / sqrt(|u_lin|^2 + eps_f^2): the Coulomb drag of the
+    side walls of a channel of width W, a body force in the 2D momentum equation."""
+
+    law: SideWallFriction
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        drag = self.law.drag_coefficient_sq(s.u_lin * s.u_lin, s.p_lin, NGSOLVE_OPS)
+        return drag * s.u * s.v * ngs.dx
+
+
+@dataclass(frozen=True)
 class SurfaceTraction:
     """gamma v . N on the free surface: the right-hand side of (2.17a) with (2.11), gamma
     the numerical surface tension gamma_0 C of (3.8), a known field during the step."""
@@ -216,11 +228,13 @@ class SurfaceTraction:
 
 
 def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.CoefficientFunction,
-                   mesh_velocity: ngs.CoefficientFunction, rheology: DruckerPrager,
+                   mesh_velocity: ngs.CoefficientFunction, rheology: Rheology,
                    body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
                    penalty: float = 0.0,
-                   surface_traction: SurfaceTraction | None = None) -> list[Term]:
-    """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension)."""
+                   surface_traction: SurfaceTraction | None = None,
+                   side_walls: SideWallFriction | None = None) -> list[Term]:
+    """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension,
+    and the drag of a channel's side walls)."""
     stress = ViscoplasticStress(rheology)
     terms: list[Term] = [Inertia(density, dt, previous), Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
@@ -228,6 +242,8 @@ def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.Coefficie
         terms += [CoulombWallFriction(wall, stress, penalty), NormalPenalty(wall.region, penalty)]
     if surface_traction is not None:
         terms.append(surface_traction)
+    if side_walls is not None:
+        terms.append(ChannelSideWalls(side_walls))
     return terms
 
 

@@ -46,3 +46,28 @@ class CoulombFriction:
         """``drag_coefficient`` from |u_T|^2, smooth at u_T = 0 (for Newton's tangent)."""
         return self.mu * ops.positive_part(normal_stress) / ops.sqrt(
             slip_sq + self.eps_friction**2)
+
+
+@dataclass(frozen=True)
+class SideWallFriction:
+    """Coulomb drag of the two side walls of a channel of width W, averaged across it.
+
+    Each wall presses on the material with the pressure p (isotropic stress, the closure of
+    Jop, Forterre and Pouliquen 2005, J. Fluid Mech. 541, 167-192) and resists its motion
+    with mu_w p; over the width this is the body force -(2 mu_w / W) [p]_+ u / |u|,
+    regularised by eps_f like (2.17a).
+    """
+
+    channel_width: float
+    friction_angle_deg: float
+    eps_friction: float
+
+    def __post_init__(self) -> None:
+        if self.channel_width <= 0:
+            raise ValueError(f"channel_width = {self.channel_width}: must be > 0")
+        CoulombFriction(self.friction_angle_deg, self.eps_friction)   # same checks
+
+    def drag_coefficient_sq(self, speed_sq: Any, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """c with body force -c u: (2 / W) mu_w [p]_+ / sqrt(|u|^2 + eps_f^2)."""
+        wall = CoulombFriction(self.friction_angle_deg, self.eps_friction)
+        return 2.0 / self.channel_width * wall.drag_coefficient_sq(speed_sq, pressure, ops)

@@ -8,9 +8,25 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from granflow.physics.ops import NUMPY_OPS, Ops
+
+
+class Rheology(Protocol):
+    """A viscoplastic law sigma' = m(|Du|^2, p) Du, what the momentum forms need of it.
+
+    ``m`` must be smooth in |Du|^2 (Newton differentiates it) and finite at Du = 0; laws:
+    ``DruckerPrager`` (2.13) and ``MuI`` (physics/mu_i.py).
+    """
+
+    viscosity: float
+
+    def effective_viscosity_sq(self, strain_rate_sq: Any, pressure: Any,
+                               ops: Ops = NUMPY_OPS) -> Any: ...
+
+    def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
+                            ops: Ops = NUMPY_OPS) -> Any: ...
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,8 @@ from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
-from granflow.physics import CoulombFriction, DruckerPrager, gravity_vector
+from granflow.physics import CoulombFriction, gravity_vector
+from granflow.scenarios.materials import build_rheology, build_side_walls
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
@@ -292,20 +293,19 @@ def build_column(config: Config) -> ColumnCollapse:
 def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, ColumnMover]:
     """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``."""
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
-    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                             eps=num.eps)
     load = bnd.normal_load
     walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load),
              FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction), load)]
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
     st = config.surface_tension
-    solver = FlowSolver(mesh, rheology=rheology, density=mat.density,
+    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
                         linear_solver=direct_solver(num.linear_solver),
                         initial_guess=num.initial_guess,
-                        surface_tension_on=SURFACE if st.enabled else None)
+                        surface_tension_on=SURFACE if st.enabled else None,
+                        side_walls=build_side_walls(config))
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg) if st.enabled else None)

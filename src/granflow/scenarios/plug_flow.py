@@ -1,4 +1,5 @@
-"""Periodic plug flow on an incline (configuration (a), paper section 4)."""
+"""Periodic layer on an incline: the plug flow (configuration (a), paper section 4) and the
+steady flow of a layer steeper than its friction (Drucker-Prager or mu(I))."""
 
 from __future__ import annotations
 
@@ -16,8 +17,10 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.io.run_dir import RunDir
-from granflow.physics import DruckerPrager, gravity_vector
+from granflow.physics import MuI, gravity_vector
+from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
+from granflow.scenarios.materials import build_rheology
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
 
@@ -30,40 +33,75 @@ class PlugFlow:
     mesh: ngs.Mesh
     solver: FlowSolver
     simulation: Simulation
-    _references: dict[float, Plug1DSolution] = field(default_factory=dict)
+    _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
+
+    @property
+    def steep(self) -> bool:
+        """Slope steeper than the friction angle: no plug, the layer shears throughout."""
+        return self.config.geometry.slope_deg > self.config.material.friction_angle_deg
 
     def reference_note(self) -> str | None:
-        """Why the 1D reference does not apply, or None. (4.1) has a steady plug only when
-        the friction angle is at least the slope; steeper, the layer keeps accelerating (a
-        valid 2D run, but the 1D solver is not built for it)."""
-        c = self.config
-        if c.material.friction_angle_deg < c.geometry.slope_deg:
-            return (f"no 1D reference: material.friction_angle_deg = "
-                    f"{c.material.friction_angle_deg:g} < geometry.slope_deg = "
-                    f"{c.geometry.slope_deg:g}, the layer never stops")
+        """Why no reference applies, or None. Below its friction angle a Drucker-Prager
+        layer has the 1D solution of (4.1); steeper, the steady profile it tends to
+        (reference/incline.py); a mu(I) layer has the steady profile when
+        mu_s < tan(slope) < mu_2 and nothing else (the 1D solver is for Drucker-Prager)."""
+        mat, slope = self.config.material, self.config.geometry.slope_deg
+        if mat.rheology != "mu-i":
+            return None
+        if not self.steep:
+            return (f"no reference: the 1D solver of (4.1) is for Drucker-Prager, and a mu(I) "
+                    f"layer at geometry.slope_deg = {slope:g} <= material.friction_angle_deg "
+                    f"= {mat.friction_angle_deg:g} comes to rest")
+        if slope >= mat.mu_2_deg:
+            return (f"no reference: geometry.slope_deg = {slope:g} >= material.mu_2_deg = "
+                    f"{mat.mu_2_deg:g}, the mu(I) layer keeps accelerating")
         return None
 
-    def reference(self, t: float) -> Plug1DSolution | None:
-        """The independent 1D solution of (4.1) at time t (cached); None if it does not apply."""
+    @property
+    def reference_kind(self) -> str | None:
+        """"1d" (the transient solution of (4.1)), "steady" (the steep layer's limit)."""
         if self.reference_note() is not None:
             return None
-        key = round(t, 12)
+        return "steady" if self.steep else "1d"
+
+    def reference(self, t: float) -> Plug1DSolution | SteadyProfile | None:
+        """The independent reference at time t (cached); None if none applies."""
+        kind = self.reference_kind
+        if kind is None:
+            return None
+        key = -1.0 if kind == "steady" else round(t, 12)
         if key not in self._references:
-            c = self.config
-            self._references[key] = solve_plug1d(
-                height=c.geometry.height, slope_deg=c.geometry.slope_deg,
-                friction_angle_deg=c.material.friction_angle_deg,
-                kinematic_viscosity=c.material.viscosity / c.material.density,
-                shear_rate=c.initial.shear_rate, plug_base=c.initial.plug_base, t_end=t,
-                gravity=c.material.gravity)
+            self._references[key] = (self._steady() if kind == "steady"
+                                     else self._plug1d(t))
         return self._references[key]
+
+    def _plug1d(self, t: float) -> Plug1DSolution:
+        c = self.config
+        return solve_plug1d(
+            height=c.geometry.height, slope_deg=c.geometry.slope_deg,
+            friction_angle_deg=c.material.friction_angle_deg,
+            kinematic_viscosity=c.material.viscosity / c.material.density,
+            shear_rate=c.initial.shear_rate, plug_base=c.initial.plug_base, t_end=t,
+            gravity=c.material.gravity)
+
+    def _steady(self) -> SteadyProfile:
+        c, mat = self.config, self.config.material
+        common = {"height": c.geometry.height, "slope_deg": c.geometry.slope_deg,
+                  "density": mat.density, "gravity": mat.gravity}
+        if mat.rheology == "mu-i":
+            law = build_rheology(c)
+            assert isinstance(law, MuI)
+            return mu_i_profile(law=law, **common)
+        return drucker_prager_profile(friction_angle_deg=mat.friction_angle_deg,
+                                      viscosity=mat.viscosity, **common)
 
     def velocity_errors(self, t: float) -> tuple[float, float | None] | None:
         """(absolute, relative) L2 errors against the reference at t, None without one."""
         ref = self.reference(t)
         if ref is None:
             return None
-        return velocity_errors_l2(self.mesh, self.solver.velocity, ref.z, ref.u)
+        z = np.linspace(0.0, self.config.geometry.height, 4001)   # the voxel table is uniform
+        return velocity_errors_l2(self.mesh, self.solver.velocity, z, ref(z))
 
     def velocity_error(self, t: float) -> float:
         """Relative L2 error e_L2(u) (Tables 1-2); NaN without a reference or when it is 0."""
@@ -106,6 +144,7 @@ class PlugFlow:
             "velocity_relative_error_l2": errors[1] if errors else None,
             "velocity_error_l2": errors[0] if errors else None,
             "reference_interface_m": ref.interface if ref else None,
+            "reference": self.reference_kind,
             "reference_note": self.reference_note(),
         }
 
@@ -121,11 +160,9 @@ def build_plug_flow(config: Config) -> PlugFlow:
     """Mesh, initial state U0 = alpha1 [Z - b0]_+ with hydrostatic pressure, and the loop."""
     geo, mat = config.geometry, config.material
     mesh = periodic_layer_mesh(geo.length, geo.height, config.mesh.size, config.mesh.cells_x)
-    rheology = DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                             eps=config.numerics.eps)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    solver = FlowSolver(mesh, rheology=rheology, density=mat.density, body_force=force,
-                        periodic=True, dirichlet=BED,
+    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
+                        body_force=force, periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
                         linear_solver=direct_solver(config.numerics.linear_solver),
                         initial_guess=config.numerics.initial_guess)

@@ -1,0 +1,26 @@
+"""The constitutive laws a configuration asks for, built once for every scenario."""
+
+from __future__ import annotations
+
+from granflow.config import Config
+from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
+
+
+def build_rheology(config: Config) -> Rheology:
+    """``material.rheology``: the regularised Drucker-Prager law (2.13) or mu(I)."""
+    mat, eps = config.material, config.numerics.eps
+    if mat.rheology == "mu-i":
+        return MuI(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                   mu_2_deg=mat.mu_2_deg, i0=mat.i0, grain_diameter=mat.grain_diameter,
+                   grain_density=mat.grain_density, eps=eps)
+    return DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                         eps=eps)
+
+
+def build_side_walls(config: Config) -> SideWallFriction | None:
+    """The channel's side walls (``boundary.channel_width``), or None without them."""
+    bnd = config.boundary
+    if bnd.channel_width is None or config.geometry.kind != "column":
+        return None
+    return SideWallFriction(bnd.channel_width, bnd.side_wall_friction_deg,
+                            config.numerics.eps_friction)
