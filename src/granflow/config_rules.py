@@ -74,6 +74,14 @@ def _problems(c: Config) -> Iterator[str]:
         yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles (at most "
                f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}")
     mat = c.material
+    if c.numerics.method == "augmented-lagrangian":
+        if mat.rheology != "drucker-prager":
+            yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
+                   f"'drucker-prager' (not {mat.rheology!r})")
+        if g.kind == "column":
+            yield ("numerics.method = 'augmented-lagrangian' is available for "
+                   "geometry.kind = 'periodic-layer' only: on a column starting from rest its "
+                   "iteration does not converge (README, issue 17); use 'regularized'")
     if mat.rheology == "mu-i":
         if mat.mu_2_deg <= mat.friction_angle_deg:
             yield (f"material.mu_2_deg = {mat.mu_2_deg!r} must be greater than "
@@ -151,7 +159,12 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
     else:
         add("time.error_tol time.error_floor", "time.adaptive = false")
-    if c.numerics.linearization != "picard":
+    if c.numerics.method == "regularized":
+        add("numerics.al_r", "numerics.method = 'regularized'")
+    else:
+        add("numerics.eps numerics.linearization",
+            "numerics.method = 'augmented-lagrangian' (no regularisation, its own iteration)")
+    if c.numerics.linearization != "picard" and c.numerics.method == "regularized":
         add("numerics.initial_guess", "Newton and the hybrid always start from the "
             "extrapolated state")
     return out

@@ -34,7 +34,7 @@ def error_of(source: str | Path = "plug-flow", *overrides: str) -> str:
 
 def test_builtin_scenarios_are_the_contract_ones_with_descriptions() -> None:
     scenarios = builtin_scenarios()
-    assert CONTRACT_SCENARIOS <= set(scenarios)     # extensions (incline-mu-i) are allowed
+    assert set(scenarios) >= CONTRACT_SCENARIOS     # extensions (incline-mu-i) are allowed
     assert all(len(text) > 20 and "\n" not in text for text in scenarios.values())
 
 

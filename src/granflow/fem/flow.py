@@ -7,6 +7,11 @@ from collections.abc import Sequence
 
 import ngsolve as ngs
 
+from granflow.fem.augmented_lagrangian import (
+    AugmentedLagrangian,
+    AugmentedStress,
+    tensor_space,
+)
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.forms import (
     FrictionWall,
@@ -24,7 +29,7 @@ from granflow.fem.nonlinear import (
     ResidualSystem,
 )
 from granflow.fem.spaces import taylor_hood, vector_p2
-from granflow.physics import Rheology, SideWallFriction
+from granflow.physics import DruckerPrager, Rheology, SideWallFriction
 
 SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 
@@ -42,7 +47,8 @@ class FlowSolver:
                  penalty: float = 0.0, linearization: str = "picard",
                  linear_solver: str = "umfpack", initial_guess: str = "previous",
                  surface_tension_on: str | None = None,
-                 side_walls: SideWallFriction | None = None) -> None:
+                 side_walls: SideWallFriction | None = None,
+                 augmentation: float | None = None) -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -59,16 +65,27 @@ class FlowSolver:
         self.surface_tension = ngs.GridFunction(ngs.H1(mesh, order=1))
         traction = (None if surface_tension_on is None
                     else SurfaceTraction(surface_tension_on, self.surface_tension))
+        stress = None
+        if augmentation is not None:        # the augmented Lagrangian method, not (2.13)
+            if not isinstance(rheology, DruckerPrager):
+                raise ValueError("the augmented Lagrangian method needs the Drucker-Prager law")
+            self.strain = ngs.GridFunction(tensor_space(mesh))       # d
+            self.multiplier = ngs.GridFunction(tensor_space(mesh))   # lambda
+            stress = AugmentedStress(rheology, augmentation, self.strain, self.multiplier)
         self.terms = momentum_terms(
             density=density, dt=self.dt, previous=self.previous.components[0],
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
-            walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls)
+            walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls,
+            stress=stress)
         freedofs = self.space.FreeDofs()
+        picard = FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),
+                                  freedofs, linear_solver)
         self.nonlinear = NonlinearSolver(
-            picard=FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),
-                                    freedofs, linear_solver),
+            picard=picard,
             newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),
             state=self.solution)
+        self.augmented = (None if augmentation is None else AugmentedLagrangian(
+            rheology, augmentation, self.nonlinear, self.strain, self.multiplier))
 
     @property
     def velocity(self) -> ngs.CoefficientFunction:
@@ -96,10 +113,13 @@ class FlowSolver:
         two), a better guess at no cost; Newton and the hybrid always start from the latter.
         """
         self.dt.Set(dt)
-        if self.initial_guess == "extrapolated" or self.linearization != "picard":
+        if self.initial_guess == "extrapolated" or (self.linearization != "picard"
+                                                     and self.augmented is None):
             self.predict(dt, self.solution)
         else:
             self.solution.vec.data = self.previous.vec
+        if self.augmented is not None:
+            return self.augmented.solve(tol, max_iterations, velocity_floor)
         if self.linearization == "picard":
             return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
         if self.linearization == "newton":

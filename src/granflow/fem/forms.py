@@ -66,6 +66,13 @@ class Term(Protocol):
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
 
 
+class StressTerm(Term, Protocol):
+    """The term of the deviatoric stress; the wall friction reads sigma' from it."""
+
+    def wall_deviatoric(self, u_lin: ngs.CoefficientFunction, p_lin: ngs.CoefficientFunction,
+                        frozen: bool) -> ngs.CoefficientFunction: ...
+
+
 class _LhsOnly:
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
         return None
@@ -108,6 +115,16 @@ class ViscoplasticStress(_LhsOnly):
                   p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
         du = strain_rate(u_lin)
         return self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
+
+    def wall_deviatoric(self, u_lin: ngs.CoefficientFunction, p_lin: ngs.CoefficientFunction,
+                        frozen: bool) -> ngs.CoefficientFunction:
+        """sigma' = m Du at (u_lin, p_lin) on a wall (what loads the wall friction); a
+        known (frozen) strain rate is traced from the volume before m is formed."""
+        du = strain_rate(u_lin)
+        if frozen:
+            du = ngs.BoundaryFromVolumeCF(du)
+        m = self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
+        return m * du
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         m = self.viscosity(s.u_lin, s.p_lin)
@@ -162,7 +179,7 @@ class CoulombWallFriction(_LhsOnly):
     """
 
     wall: FrictionWall
-    stress: ViscoplasticStress
+    stress: StressTerm
     penalty: float = 0.0     # xi of NormalPenalty, for normal_load = "reaction"
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
@@ -174,12 +191,8 @@ class CoulombWallFriction(_LhsOnly):
             load = self.penalty * (s.u_lin * n)
             measure = ngs.ds(definedon=region)
         else:
-            du_lin = strain_rate(s.u_lin)
-            if frozen:  # a known field: its volume strain rate traced on the wall is cheaper
-                du_lin = ngs.BoundaryFromVolumeCF(du_lin)
-            m = self.stress.rheology.effective_viscosity_sq(ngs.InnerProduct(du_lin, du_lin),
-                                                            s.p_lin, NGSOLVE_OPS)
-            load = s.p_lin - m * ngs.InnerProduct(du_lin * n, n)
+            sigma = self.stress.wall_deviatoric(s.u_lin, s.p_lin, frozen)
+            load = s.p_lin - ngs.InnerProduct(sigma * n, n)
             measure = (ngs.ds(definedon=region) if frozen
                        else ngs.ds(skeleton=True, definedon=region))
         drag = self.wall.law.drag_coefficient_sq(slip * slip, load, NGSOLVE_OPS)
@@ -232,10 +245,12 @@ def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.Coefficie
                    body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
                    penalty: float = 0.0,
                    surface_traction: SurfaceTraction | None = None,
-                   side_walls: SideWallFriction | None = None) -> list[Term]:
+                   side_walls: SideWallFriction | None = None,
+                   stress: StressTerm | None = None) -> list[Term]:
     """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension,
-    and the drag of a channel's side walls)."""
-    stress = ViscoplasticStress(rheology)
+    and the drag of a channel's side walls); ``stress`` replaces the regularised law (the
+    augmented Lagrangian's)."""
+    stress = stress or ViscoplasticStress(rheology)
     terms: list[Term] = [Inertia(density, dt, previous), Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
     for wall in walls:

@@ -147,6 +147,10 @@ class NonlinearSolver:
         """L2 norm of the velocity part of ``vec`` on the mesh of the last solve."""
         return self._l2(vec)
 
+    def prepare_norm(self) -> None:
+        """Assemble the velocity mass matrix of ``velocity_l2`` on the current mesh."""
+        self._mass.Assemble()
+
     def _l2(self, vec: ngs.BaseVector) -> float:
         """L2 norm of the velocity part of ``vec``."""
         self._work.data = self._mass.mat * vec

@@ -29,7 +29,7 @@ from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
 from granflow.physics import CoulombFriction, gravity_vector
-from granflow.scenarios.materials import build_rheology, build_side_walls
+from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
@@ -305,7 +305,8 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
                         linear_solver=direct_solver(num.linear_solver),
                         initial_guess=num.initial_guess,
                         surface_tension_on=SURFACE if st.enabled else None,
-                        side_walls=build_side_walls(config))
+                        side_walls=build_side_walls(config),
+                        augmentation=augmentation(config))
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg) if st.enabled else None)

@@ -24,3 +24,13 @@ def build_side_walls(config: Config) -> SideWallFriction | None:
         return None
     return SideWallFriction(bnd.channel_width, bnd.side_wall_friction_deg,
                             config.numerics.eps_friction)
+
+
+def augmentation(config: Config) -> float | None:
+    """r of the augmented Lagrangian method (``numerics.al_r``), or None for the regularised
+    law. auto = 20 x viscosity: on the plug flow's first step (dZ = 0.25, dt = 1.25e-2) the
+    fastest of 0.2, 2, 20 and 200 x viscosity (benchmarks/augmented_lagrangian.py)."""
+    num = config.numerics
+    if num.method != "augmented-lagrangian":
+        return None
+    return 20.0 * config.material.viscosity if num.al_r == "auto" else float(num.al_r)

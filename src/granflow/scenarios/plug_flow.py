@@ -20,7 +20,7 @@ from granflow.io.run_dir import RunDir
 from granflow.physics import MuI, gravity_vector
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
-from granflow.scenarios.materials import build_rheology
+from granflow.scenarios.materials import augmentation, build_rheology
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
 
@@ -165,7 +165,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
                         body_force=force, periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
                         linear_solver=direct_solver(config.numerics.linear_solver),
-                        initial_guess=config.numerics.initial_guess)
+                        initial_guess=config.numerics.initial_guess,
+                        augmentation=augmentation(config))
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),

@@ -1,0 +1,55 @@
+"""The augmented Lagrangian method (fem/augmented_lagrangian.py) on the plug flow, against
+the independent 1D reference of (4.1) (issue 17). Coarse cell: dZ = 0.25 m, dt = 1.25e-2 s,
+t = 0.2 s; the acceptance cell (dZ = 0.125, dt = 3.12e-3) is
+benchmarks/augmented_lagrangian.py."""
+
+import ngsolve as ngs
+import pytest
+
+from granflow.config import ConfigError, load_config
+from granflow.scenarios.plug_flow import build_plug_flow
+
+CELL = ["time.dt=1.25e-2", "mesh.size=0.25", "geometry.length=0.5", "mesh.cells_x=2",
+        "time.output_times=[]", "numerics.mesh_velocity=fixed"]
+
+
+def run(extra: list[str]):
+    problem = build_plug_flow(load_config("plug-flow", CELL + extra))
+    result = problem.simulation.run()
+    assert result.status == "completed"
+    return problem, problem.velocity_error(result.t_final)
+
+
+@pytest.fixture(scope="module")
+def augmented():
+    return run(["numerics.method=augmented-lagrangian"])
+
+
+def test_error_below_regularised_eps_1e_2_and_close_to_eps_1e_6(augmented) -> None:
+    """Paper Table 1 at this cell: 2.49e-2 (eps = 1e-2) and 1.41e-3 (eps = 1e-6); the
+    method has no eps, so its error is the discretisation's: within 5 % of eps = 1e-6."""
+    _, error = augmented
+    _, error_2 = run(["numerics.linearization=picard", "numerics.eps=1e-2"])
+    _, error_6 = run(["numerics.linearization=newton", "numerics.eps=1e-6"])
+    assert error < 0.1 * error_2
+    assert error == pytest.approx(error_6, rel=0.05)
+
+
+def test_rigid_plug_has_exactly_zero_strain_rate(augmented) -> None:
+    """d = 0 exactly in the static layer under the yield surface (the 1D reference's
+    interface b(t = 0.2 s), less one cell), where the regularised law only makes |Du| small;
+    d != 0 in the sheared layer above."""
+    problem, _ = augmented
+    interface = problem.reference(problem.simulation.t).interface
+    d = problem.solver.strain
+    plug_zone = ngs.IfPos((interface - 0.25) - ngs.y, 1.0, 0.0)
+    assert 1.0 < interface < 5.5
+    plug = ngs.Integrate(plug_zone * ngs.InnerProduct(d, d), problem.mesh)
+    sheared = ngs.Integrate((1 - plug_zone) * ngs.InnerProduct(d, d), problem.mesh)
+    assert plug == 0.0
+    assert sheared > 0.0
+
+
+def test_column_is_refused_before_running() -> None:
+    with pytest.raises(ConfigError, match="periodic-layer' only"):
+        load_config("rectangle-rigid", ["numerics.method=augmented-lagrangian"])
