@@ -43,7 +43,7 @@ ALTERNATIVE = {
     "surface_tension.gamma0": 100.0, "time.dt": 5e-4,
     "mesh.failure_remesh_quality": 0.95, "time.error_tol": 0.5, "time.error_floor": 1.0,
     "geometry.bed_length": 0.5, "geometry.erodible_thickness": 0.03, "time.dt_max": 1e-4,
-    "numerics.tol": 1e-2, "numerics.eps_friction": 1e-2,
+    "numerics.tol": 1e-2, "numerics.eps_friction": 1e-2, "numerics.al_r": 100.0,
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],

@@ -20,9 +20,11 @@ At convergence lambda is the plastic stress: |lambda| <= kappa, lambda = kappa D
 where Du != 0. d and lambda are symmetric tensors, discontinuous P1 per triangle (Du of a
 P2 velocity is such a field); the projection of step 2 is applied pointwise and projected
 back onto that space. ``r`` (Pa s) is the augmentation parameter ``numerics.al_r``.
-Convergence: the velocity change of an iteration below ``tol`` relative to the velocity
-(as (3.2)), and the constraint's residual ||Du - d|| below ``tol`` relative to ||Du||
-(at least ``velocity_floor`` x |Omega|^1/2 / 1 m, the floor of (3.2) per metre).
+Convergence: the velocity change of an iteration below ``tol`` relative to the velocity,
+the test of (3.2). (Also requiring ||Du - d|| <= tol ||Du|| made steps of the plug flow at
+dZ = 0.125 fail after 1000 iterations with the velocity converged to 1e-14: the
+constraint converges much more slowly than the velocity; its effect on accuracy is what
+the error against the 1D reference measures.)
 """
 
 from __future__ import annotations
@@ -85,9 +87,7 @@ class AugmentedLagrangian:
         mesh = self.state.space.mesh
         self.nonlinear.prepare_norm()
         l2 = self.nonlinear.velocity_l2
-        area = ngs.Integrate(ngs.CF(1.0), mesh)
-        floor = velocity_floor * math.sqrt(area)
-        rate_floor = floor / 1.0        # ||Du|| of the velocity floor varying over 1 m
+        floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), mesh))
         x = self.state.vec
         u, p = self.state.components
         du = strain_rate(u)
@@ -109,11 +109,11 @@ class AugmentedLagrangian:
             gap = du - self.strain
             self._next.Set(self.multiplier + self.r * gap)
             self.multiplier.vec.data = self._next.vec
-            gap_norm, rate = _l2_norm(gap, mesh), _l2_norm(du, mesh)
+            gap_norm = _l2_norm(gap, mesh)
             change = l2(self._delta) / norm_old if norm_old > 0 else 0.0
             if not (math.isfinite(change) and math.isfinite(gap_norm)):
                 return IterationReport(False, k, math.nan, finite=False, picard_iterations=k)
-            if change < tol and gap_norm <= tol * max(rate, rate_floor):
+            if change < tol:
                 return IterationReport(True, k, change, picard_iterations=k)
         return IterationReport(False, max_iterations, change, picard_iterations=max_iterations)
 

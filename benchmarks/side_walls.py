@@ -1,0 +1,67 @@
+"""Benchmark (issue 17): the effect of a channel's side-wall friction on the collapses.
+
+Run: python benchmarks/side_walls.py [--width 0.1] [--angle 10.2]
+         [--out benchmarks/results/side_walls]
+
+The default trapezoid (and the rectangle) on the rigid bed, run to rest
+(time.stop_at_rest), without and with side walls (boundary.channel_width = --width, the
+paper's 10 cm channel; boundary.side_wall_friction_deg = --angle, the paper's wall friction
+of the left wall), side by side: runout, stop time (all cells slower than 1 mm/s), the
+time the front stops, the deposit's height at the wall. Writes OUT/side_walls.json, .md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from granflow.config import config_to_toml, load_config
+from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.simulation.runner import run_simulation
+
+KEYS = ["status", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m", "steps",
+        "wall_time_s"]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--width", type=float, default=0.1)
+    parser.add_argument("--angle", type=float, default=10.2)
+    parser.add_argument("--scenarios", nargs="+", default=["trapezoid-rigid", "rectangle-rigid"])
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/side_walls"))
+    args = parser.parse_args()
+    walls = [f"boundary.channel_width={args.width!r}",
+             f"boundary.side_wall_friction_deg={args.angle!r}"]
+    rows = []
+    for scenario in args.scenarios:
+        for label, extra in (("no side walls", []), ("side walls", walls)):
+            config = load_config(scenario, ["time.stop_at_rest=true", "time.t_end=2.0",
+                                            "time.output_times=[]", *extra])
+            name = f"{scenario}_{'walls' if extra else 'plain'}"
+            run_dir = RunDir.create(args.out / "runs" / name, force=True)
+            run_dir.write_text("config.toml", config_to_toml(config))
+            summary = run_simulation(config, run_dir, progress=False)
+            rows.append({"scenario": scenario, "case": label,
+                         **{k: summary.get(k) for k in KEYS}})
+            print(json.dumps(rows[-1]), flush=True)
+    write(args.out, rows, args.width, args.angle)
+
+
+def write(out: Path, rows: list[dict], width: float, angle: float) -> None:
+    def fmt(x: float | None, digits: int) -> str:
+        return "-" if x is None else f"{x:.{digits}f}"
+
+    lines = [f"Channel width {width} m, side-wall friction {angle} deg:", "",
+             "| scenario | case | runout (m) | stop (s) | front stops (s) | height at wall (m) |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {r['scenario']} | {r['case']} | {fmt(r['runout_m'], 4)} | "
+              f"{fmt(r['stop_time_s'], 3)} | {fmt(r['front_stop_time_s'], 3)} | "
+              f"{fmt(r['wall_height_m'], 4)} |" for r in rows]
+    atomic_write_text(out / "side_walls.json", json.dumps(rows, indent=2))
+    atomic_write_text(out / "side_walls.md", "\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
