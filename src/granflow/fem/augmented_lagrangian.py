@@ -90,7 +90,15 @@ class AugmentedLagrangian:
         floor = velocity_floor * math.sqrt(ngs.Integrate(ngs.CF(1.0), mesh))
         x = self.state.vec
         u, p = self.state.components
+        # steps 2 and 3 as coefficient functions of the live fields, built once per solve:
+        # the projection onto the yield set (kappa of the new pressure), then the multiplier
         du = strain_rate(u)
+        kappa = self.rheology.yield_stress(p, NGSOLVE_OPS)
+        tau = du + (1.0 / self.r) * self.multiplier
+        norm_tau = ngs.sqrt(ngs.InnerProduct(tau, tau) + 1e-300)
+        projection = ngs.IfPos(norm_tau - kappa / self.r,
+                               (1.0 - kappa / (self.r * norm_tau)) * tau, 0 * tau)
+        update = self.multiplier + self.r * (du - self.strain)
         change = math.inf
         for k in range(1, max_iterations + 1):
             norm_old = max(l2(x), floor)
@@ -98,26 +106,13 @@ class AugmentedLagrangian:
             self.system.iterate(self._trial)
             self._delta.data = self._trial - x
             x.data = self._trial
-            # step 2: the projection onto the yield set, with kappa of the new pressure
-            kappa = self.rheology.yield_stress(p, NGSOLVE_OPS)
-            tau = du + (1.0 / self.r) * self.multiplier
-            norm_tau = ngs.sqrt(ngs.InnerProduct(tau, tau) + 1e-300)
-            self._next.Set(ngs.IfPos(norm_tau - kappa / self.r,
-                                     (1.0 - kappa / (self.r * norm_tau)) * tau, 0 * tau))
+            self._next.Set(projection)
             self.strain.vec.data = self._next.vec
-            # step 3: the multiplier
-            gap = du - self.strain
-            self._next.Set(self.multiplier + self.r * gap)
+            self._next.Set(update)
             self.multiplier.vec.data = self._next.vec
-            gap_norm = _l2_norm(gap, mesh)
             change = l2(self._delta) / norm_old if norm_old > 0 else 0.0
-            if not (math.isfinite(change) and math.isfinite(gap_norm)):
+            if not (math.isfinite(change) and math.isfinite(self.multiplier.vec.Norm())):
                 return IterationReport(False, k, math.nan, finite=False, picard_iterations=k)
             if change < tol:
                 return IterationReport(True, k, change, picard_iterations=k)
         return IterationReport(False, max_iterations, change, picard_iterations=max_iterations)
-
-
-
-def _l2_norm(tensor: ngs.CoefficientFunction, mesh: ngs.Mesh) -> float:
-    return math.sqrt(max(ngs.Integrate(ngs.InnerProduct(tensor, tensor), mesh), 0.0))
