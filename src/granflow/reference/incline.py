@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from granflow.physics import MuI
+from granflow.reference.plug1d import profile_at
 
 
 @dataclass(frozen=True)
@@ -38,8 +39,7 @@ class SteadyProfile:
     interface: float | None = None     # no plug: the whole layer shears
 
     def __call__(self, z: np.ndarray | float) -> np.ndarray:
-        zq = np.clip(np.asarray(z, dtype=float), self.z[0], self.z[-1])
-        return np.interp(zq, self.z, self.u)
+        return profile_at(self.z, self.u, z)
 
 
 def _grid(height: float, points: int) -> np.ndarray:

@@ -75,13 +75,18 @@ class Plug1DSolution:
 
     def __call__(self, z: np.ndarray | float) -> np.ndarray:
         """Interpolate ``U(t, z)`` linearly on the (fine) grid; ``z`` is clipped to ``[0, h]``."""
-        zq = np.clip(np.asarray(z, dtype=float), self.z[0], self.z[-1])
-        return np.interp(zq, self.z, self.u)
+        return profile_at(self.z, self.u, z)
 
     @property
     def height(self) -> float:
         """Height ``h`` of the layer."""
         return float(self.z[-1])
+
+
+def profile_at(grid: np.ndarray, u: np.ndarray, z: np.ndarray | float) -> np.ndarray:
+    """u(z) interpolated linearly on ``grid``, z clipped to the grid's ends."""
+    zq = np.clip(np.asarray(z, dtype=float), grid[0], grid[-1])
+    return np.interp(zq, grid, u)
 
 
 def source_term(*, slope_deg: float, friction_angle_deg: float, gravity: float = 9.81) -> float:
