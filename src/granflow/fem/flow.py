@@ -174,10 +174,16 @@ class FlowSolver:
         self.solution.vec.data = self.previous.vec
 
     def save_history(self) -> dict[str, object]:
-        """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads."""
-        return {"previous": self.previous.vec.FV().NumPy().copy(),
-                "before_previous": self.before_previous.vec.FV().NumPy().copy(),
-                "dt_previous": self.dt_previous}
+        """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the
+        augmented Lagrangian's d and lambda, its next step's starting point)."""
+        state: dict[str, object] = {
+            "previous": self.previous.vec.FV().NumPy().copy(),
+            "before_previous": self.before_previous.vec.FV().NumPy().copy(),
+            "dt_previous": self.dt_previous}
+        if self.augmented is not None:
+            state["strain"] = self.strain.vec.FV().NumPy().copy()
+            state["multiplier"] = self.multiplier.vec.FV().NumPy().copy()
+        return state
 
     def restore_history(self, state: dict[str, object]) -> None:
         """Inverse of ``save_history`` on a solver built on the same mesh."""
@@ -185,6 +191,9 @@ class FlowSolver:
         self.before_previous.vec.FV().NumPy()[:] = state["before_previous"]
         self.dt_previous = float(state["dt_previous"])  # type: ignore[arg-type]
         self.solution.vec.data = self.previous.vec
+        if self.augmented is not None:
+            self.strain.vec.FV().NumPy()[:] = state["strain"]
+            self.multiplier.vec.FV().NumPy()[:] = state["multiplier"]
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:
