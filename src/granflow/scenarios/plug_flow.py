@@ -100,7 +100,9 @@ class PlugFlow:
         ref = self.reference(t)
         if ref is None:
             return None
-        z = np.linspace(0.0, self.config.geometry.height, 4001)   # the voxel table is uniform
+        # the voxel table of velocity_errors_l2 is uniform: resample on as many points
+        # (the identity for the uniform grid of the 1D solver)
+        z = np.linspace(ref.z[0], ref.z[-1], len(ref.z))
         return velocity_errors_l2(self.mesh, self.solver.velocity, z, ref(z))
 
     def velocity_error(self, t: float) -> float:
