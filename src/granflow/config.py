@@ -174,7 +174,7 @@ class Numerics(_Section):
     volume_correction: bool  # restore the initial area after each ALE move (column only)
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
     linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
-    initial_guess: Literal["previous", "extrapolated"]  # first iterate of (3.2)
+    initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
     al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
 

@@ -164,9 +164,10 @@ def inert_keys(c: Config) -> dict[str, str]:
     else:
         add("numerics.eps numerics.linearization",
             "numerics.method = 'augmented-lagrangian' (no regularisation, its own iteration)")
-    if c.numerics.linearization != "picard" and c.numerics.method == "regularized":
-        add("numerics.initial_guess", "Newton and the hybrid always start from the "
-            "extrapolated state")
+    if (c.numerics.linearization != "picard" and c.numerics.method == "regularized"
+            and c.numerics.initial_guess != "auto"):
+        add("numerics.initial_guess", "Newton and the hybrid start from the extrapolated "
+            "state unless it is 'auto'")
     return out
 
 

@@ -88,6 +88,7 @@ class ColumnCollapse:
             transfer_state(old_solver.before_previous, solver.before_previous, walls, penalty)
             solver.dt_previous = old_solver.dt_previous
         solver.solution.vec.data = solver.previous.vec
+        solver.extrapolation_won = old_solver.extrapolation_won
         mover.inherit(old_mover)
         self.mesh, self.solver, self.mover = mesh, solver, mover
         self.simulation.replace(solver, mover)

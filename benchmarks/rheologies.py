@@ -1,0 +1,142 @@
+"""Benchmark (issue 17): the collapses with the regularised Drucker-Prager law and with
+mu(I), side by side, at the paper's section 5.2 set-up (fixed dt = 1e-3 s, tol = 1e-3).
+
+Run: python benchmarks/rheologies.py [--shapes trapezoid rectangle] [--rerun]
+         [--out benchmarks/results/rheologies]
+
+mu(I) (Jop, Forterre & Pouliquen 2006, Nature 441) with their glass-bead mu_2 = tan 32.76
+deg, I0 = 0.279, d = 0.5 mm, rho_s = 2500 kg/m3 (the defaults of `material.*`; packing
+fraction 1550/2500 = 0.62), and mu_s = tan 25.5 deg, the paper's friction angle, so that
+the two laws share their static yield surface and differ only by the rate dependence.
+The augmented Lagrangian row records the configuration's refusal (ALG2 runs the plug flow
+only, benchmarks/augmented_lagrangian.py). Each run goes to OUT/runs/SHAPE-LAW; writes
+OUT/rheologies.json and .md (stop time, runout, wall time, linear solves, distances of
+the free surfaces and of the static/flowing interfaces from the Drucker-Prager run at the
+paper's times) and OUT/SHAPE_free_surfaces.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+from erodible import TIMES, _save, surfaces
+
+from granflow.config import ConfigError, config_to_toml, load_config
+from granflow.diagnostics.compare import surface_distance
+from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.simulation.runner import run_simulation
+
+SETUP = ["time.adaptive=false", "time.dt=1e-3", "numerics.tol=1e-3", "time.t_end=2.0",
+         "time.stop_at_rest=true"]
+LAWS = {"drucker-prager": [], "mu-i": ["material.rheology=mu-i"],
+        "augmented-lagrangian": ["numerics.method=augmented-lagrangian"]}
+SCENARIO = {"trapezoid": "trapezoid-rigid", "rectangle": "rectangle-rigid"}
+KEYS = ["status", "message", "t_final", "steps", "nonlinear_iterations", "linear_solves",
+        "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m"]
+
+
+def interfaces(run: Path) -> dict[float, np.ndarray]:
+    """The static/flowing interface (|u| > 1 mm/s) at the paper's times, where it exists."""
+    out = {}
+    for t in TIMES:
+        f = run / "profiles" / f"interface_t{t:.3f}.csv"
+        if f.exists() and f.stat().st_size > 0:
+            data = np.loadtxt(f, delimiter=",", skiprows=1, ndmin=2)
+            if len(data) >= 2:
+                out[t] = data
+    return out
+
+
+def distances(a: dict[float, np.ndarray], b: dict[float, np.ndarray]) -> dict[str, list]:
+    """Mean and max distance (mm) between two families of curves, time by time."""
+    return {f"{t:g}": [round(1e3 * x, 2) for x in surface_distance(a[t], b[t])]
+            for t in TIMES if t in a and t in b}
+
+
+def run_case(shape: str, law: str, out: Path, rerun: bool) -> dict:
+    run = out / "runs" / f"{shape}-{law}"
+    try:
+        config = load_config(SCENARIO[shape], [*SETUP, *LAWS[law]])
+    except ConfigError as err:
+        return {"status": "refused", "message": str(err)}
+    if rerun or not (run / "summary.json").exists():
+        run_dir = RunDir.create(run, force=True)
+        run_dir.write_text("config.toml", config_to_toml(config))
+        run_simulation(config, run_dir, progress=False)
+    summary = json.loads((run / "summary.json").read_text())
+    return {k: summary.get(k) for k in KEYS}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--shapes", nargs="+", default=list(SCENARIO))
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/rheologies"))
+    parser.add_argument("--rerun", action="store_true")
+    args = parser.parse_args()
+    rows = []
+    for shape in args.shapes:
+        for law in LAWS:
+            row = {"shape": shape, "law": law, **run_case(shape, law, args.out, args.rerun)}
+            if law != "drucker-prager" and row["status"] != "refused":
+                ref, run = args.out / "runs" / f"{shape}-drucker-prager", \
+                    args.out / "runs" / f"{shape}-{law}"
+                row["surface_vs_dp_mm"] = distances(surfaces(ref), surfaces(run))
+                row["interface_vs_dp_mm"] = distances(interfaces(ref), interfaces(run))
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+        plot(args.out, shape)
+    write(args.out, rows)
+
+
+def write(out: Path, rows: list[dict]) -> None:
+    def fmt(x: float | None, digits: int) -> str:
+        return "-" if x is None else f"{x:.{digits}f}"
+
+    lines = ["Section 5.2 set-up: dt = 1e-3 s fixed, tol = 1e-3, run to rest (1 mm/s rule).", "",
+             "| shape | law | status | stop (s) | front stops (s) | runout (m) | wall time (s) "
+             "| linear solves |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['shape']} | {r['law']} | {r['status']} | "
+                     f"{fmt(r.get('stop_time_s'), 3)} | {fmt(r.get('front_stop_time_s'), 3)} | "
+                     f"{fmt(r.get('runout_m'), 4)} | {fmt(r.get('wall_time_s'), 0)} | "
+                     f"{r.get('linear_solves', '-')} |")
+    lines += ["", "Distances from the Drucker-Prager run, mean/max (mm), at the paper's times:"]
+    for r in rows:
+        for key in ("surface_vs_dp_mm", "interface_vs_dp_mm"):
+            if r.get(key):
+                text = ", ".join(f"{t} s: {a}/{b}" for t, (a, b) in r[key].items())
+                lines.append(f"- {r['shape']} {r['law']} {key[:-9]}: {text}")
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "rheologies.json", json.dumps(rows, indent=2))
+    atomic_write_text(out / "rheologies.md", "\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+def plot(out: Path, shape: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    runs = {law: surfaces(out / "runs" / f"{shape}-{law}") for law in ("drucker-prager", "mu-i")}
+    if not all(runs.values()):
+        return
+    fig, axes = plt.subplots(len(TIMES), 1, figsize=(7, 9), sharex=True)
+    for ax, t in zip(axes, TIMES, strict=True):
+        for (law, curves), style in zip(runs.items(), ("k-", "C1--"), strict=True):
+            if t in curves:
+                ax.plot(*curves[t].T, style, label=law)
+        ax.set_ylabel("Z (m)")
+        ax.text(0.98, 0.8, f"t = {t:g} s", transform=ax.transAxes, ha="right")
+        ax.set_aspect("equal")
+    axes[0].legend(fontsize=8, loc="upper center")
+    axes[-1].set_xlabel("X (m)")
+    fig.tight_layout()
+    _save(fig, out / f"{shape}_free_surfaces.png", dpi=110)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,65 @@
+"""The first iterate of a step (``numerics.initial_guess``), issue 13: "auto" starts from
+whichever of (u^n, p^n) and the linear extrapolation predicted the last accepted step
+better."""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import pytest
+
+from granflow.fem.flow import FlowSolver
+from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
+from granflow.physics import DruckerPrager
+
+DT = 1e-3
+
+
+def _solver(initial_guess: str, linearization: str = "picard") -> FlowSolver:
+    mesh = polygon_mesh([(0, 0), (0.2, 0), (0.2, 0.1), (0, 0.1)],
+                        [BED, SURFACE, SURFACE, WALL], 0.05)
+    return FlowSolver(mesh, rheology=DruckerPrager(1.0, 25.5, 1e-3), density=1550.0,
+                      body_force=(0.0, -9.81), linearization=linearization,
+                      initial_guess=initial_guess)
+
+
+def _history(s: FlowSolver, speeds: tuple[float, float, float]) -> None:
+    """Accept two steps with uniform velocities (speed, 0): u^{n-1}, u^n, then u^{n+1}
+    as the solution of the step about to be accepted."""
+    s.set_state(ngs.CF((speeds[0], 0.0)), ngs.CF(0.0))
+    for speed in speeds[1:]:
+        s.solution.components[0].Set(ngs.CF((speed, 0.0)))
+        s.nonlinear.prepare_norm()
+        s.accept(DT)
+
+
+@pytest.mark.parametrize(("speeds", "extrapolate"), [
+    ((0.0, 1.0, 2.0), True),      # steady acceleration: the extrapolation is exact
+    ((0.0, 1.0, 1.1), False),     # sudden stop: u^n is the better guess
+    ((1.0, 0.0, 1.0), False),     # period-2 noise: the extrapolation doubles it
+])
+def test_auto_follows_the_better_predictor(speeds: tuple[float, float, float],
+                                           extrapolate: bool) -> None:
+    s = _solver("auto")
+    _history(s, speeds)
+    assert s.first_iterate_extrapolated() is extrapolate
+    restored = _solver("auto")      # a checkpoint carries the choice
+    restored.restore_history(s.save_history())
+    assert restored.first_iterate_extrapolated() is extrapolate
+
+
+def test_fixed_choices_do_not_depend_on_the_history() -> None:
+    for guess, linearization, expected in [("previous", "picard", False),
+                                           ("extrapolated", "picard", True),
+                                           ("previous", "newton", True)]:
+        s = _solver(guess, linearization)
+        _history(s, (0.0, 1.0, 1.1))
+        assert s.first_iterate_extrapolated() is expected
+
+
+def test_auto_starts_the_step_from_the_chosen_guess() -> None:
+    s = _solver("auto")
+    _history(s, (1.0, 0.0, 1.0))   # u^n = 1: the step starts there, not from 2
+    s.nonlinear.solve_picard = lambda *args: None      # only the first iterate matters
+    s.solve_step(DT, 1e-6, 1)
+    u = s.solution.components[0]
+    assert ngs.Integrate(u[0], s.mesh) / s.volume() == pytest.approx(1.0, rel=1e-12)
