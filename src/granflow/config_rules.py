@@ -74,14 +74,9 @@ def _problems(c: Config) -> Iterator[str]:
         yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles (at most "
                f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}")
     mat = c.material
-    if c.numerics.method == "augmented-lagrangian":
-        if mat.rheology != "drucker-prager":
-            yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
-                   f"'drucker-prager' (not {mat.rheology!r})")
-        if g.kind == "column":
-            yield ("numerics.method = 'augmented-lagrangian' is available for "
-                   "geometry.kind = 'periodic-layer' only: on a column starting from rest its "
-                   "iteration does not converge (README, issue 17); use 'regularized'")
+    if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
+        yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
+               f"'drucker-prager' (not {mat.rheology!r})")
     if mat.rheology == "mu-i":
         if mat.mu_2_deg <= mat.friction_angle_deg:
             yield (f"material.mu_2_deg = {mat.mu_2_deg!r} must be greater than "

@@ -5,7 +5,8 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from granflow.ale.transfer import clamp_inside, transfer_state
+from granflow.ale.transfer import clamp_inside, transfer_state, transfer_tensor
+from granflow.fem.augmented_lagrangian import tensor_space
 from granflow.fem.spaces import taylor_hood
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
 
@@ -66,3 +67,17 @@ def test_the_projection_removes_the_divergence_of_an_interpolated_field() -> Non
         q.vec[:] = 0.0
         q.vec[k] = 1.0
         assert abs(ngs.Integrate(q * ngs.div(new.components[0]), new_mesh)) < 1e-9
+
+
+def test_a_linear_tensor_field_is_transferred_exactly() -> None:
+    """d and lambda of the augmented Lagrangian (discontinuous P1 tensors) keep a field
+    linear over the old domain exactly (the vertex values carry it), also where the new
+    domain pokes out of the old one."""
+    old_mesh, new_mesh = square(1.0), square(1.02, size=0.13)
+    field = ngs.CF((ngs.x, ngs.y + 1, ngs.y + 1, 2 * ngs.x - ngs.y), dims=(2, 2))
+    old, new = ngs.GridFunction(tensor_space(old_mesh)), ngs.GridFunction(tensor_space(new_mesh))
+    old.Set(field)
+    transfer_tensor(old, new)
+    inside = ngs.IfPos(1.0 - 0.13 - ngs.x, 1.0, 0.0)      # away from the poking-out strip
+    error = ngs.Integrate(inside * ngs.InnerProduct(new - field, new - field), new_mesh)
+    assert error < 1e-20

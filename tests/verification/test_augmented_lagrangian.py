@@ -6,8 +6,9 @@ benchmarks/augmented_lagrangian.py."""
 import ngsolve as ngs
 import pytest
 
-from granflow.config import ConfigError, load_config
+from granflow.config import load_config
 from granflow.scenarios.plug_flow import build_plug_flow
+from granflow.simulation.runner import build_problem
 
 CELL = ["time.dt=1.25e-2", "mesh.size=0.25", "geometry.length=0.5", "mesh.cells_x=2",
         "time.output_times=[]", "numerics.mesh_velocity=fixed"]
@@ -65,6 +66,26 @@ def test_checkpoint_carries_d_and_lambda() -> None:
     assert abs(a - b).max() <= 1e-12 * abs(a).max()
 
 
-def test_column_is_refused_before_running() -> None:
-    with pytest.raises(ConfigError, match="periodic-layer' only"):
-        load_config("rectangle-rigid", ["numerics.method=augmented-lagrangian"])
+def test_column_first_steps_match_the_regularised_velocity() -> None:
+    """A rectangle released from rest (coarse mesh, three steps of 1e-3 s): ALG2 converges
+    from lambda = 0 and its velocity is within 2 % (L2, relative) of the regularised law's
+    at eps = 1e-6, an independent discretisation of the same limit (measured: 0.9 % after
+    one step, 0.7 % after five). The pressures are not compared: in the rigid zones the
+    stress, hence p, is not unique (fem/augmented_lagrangian.py)."""
+    velocities = []
+    for method, tol in (("regularized", 1e-7), ("augmented-lagrangian", 1e-5)):
+        config = load_config("rectangle-rigid", [f"numerics.method={method}",
+                                                 "numerics.linearization=picard",
+                                                 "mesh.size=0.03"])
+        solver = build_problem(config).solver
+        for _ in range(3):
+            report = solver.solve_step(1e-3, tol, 3000, config.numerics.velocity_floor)
+            assert report.converged
+            solver.accept(1e-3)
+        velocities.append(solver.velocity)
+    reference, augmented = velocities
+    mesh = reference.space.mesh
+    gap = reference - augmented
+    difference = ngs.Integrate(ngs.InnerProduct(gap, gap), mesh)
+    size = ngs.Integrate(ngs.InnerProduct(reference, reference), mesh)
+    assert 0.0 < difference < 0.02 ** 2 * size

@@ -117,3 +117,22 @@ def transfer_state(old: ngs.GridFunction, new: ngs.GridFunction, walls: list[str
     xy = new.space.mesh.ngmesh.Coordinates()
     new.components[1].vec.FV().NumPy()[: len(xy)] = sample(p_old, old_mesh, xy)[:, 0]
     project_divergence_free(new, walls, penalty)
+
+
+
+def transfer_tensor(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
+    """A discontinuous tensor field (the augmented Lagrangian's d or lambda) onto the new
+    mesh: its values at the new vertices (clamped into the old domain, each taken from one
+    adjacent old triangle), linear in between. It smooths the field across edges; d and
+    lambda only start the next iteration, which converges to the same step whatever its
+    start."""
+    mesh, old_mesh = new.space.mesh, old.space.mesh
+    xy = mesh.ngmesh.Coordinates()
+    scalar = ngs.GridFunction(ngs.L2(old_mesh, order=1))  # (a point value of the symmetric
+    components = []                                     # tensor space itself prints noise)
+    for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        scalar.Set(old[i, j])
+        vertex_field = ngs.GridFunction(ngs.H1(mesh, order=1))
+        vertex_field.vec.FV().NumPy()[:] = sample(scalar, old_mesh, xy)[:, 0]
+        components.append(vertex_field)
+    new.Set(ngs.CF(tuple(components), dims=(2, 2)))

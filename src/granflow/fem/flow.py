@@ -72,7 +72,9 @@ class FlowSolver:
                 raise ValueError("the augmented Lagrangian method needs the Drucker-Prager law")
             self.strain = ngs.GridFunction(tensor_space(mesh))       # d
             self.multiplier = ngs.GridFunction(tensor_space(mesh))   # lambda
-            stress = AugmentedStress(rheology, augmentation, self.strain, self.multiplier)
+            self.augmentation = ngs.Parameter(augmentation)           # r, balanced
+            stress = AugmentedStress(rheology, self.augmentation, self.strain,
+                                     self.multiplier)
         self.terms = momentum_terms(
             density=density, dt=self.dt, previous=self.previous.components[0],
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
@@ -86,7 +88,7 @@ class FlowSolver:
             newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),
             state=self.solution)
         self.augmented = (None if augmentation is None else AugmentedLagrangian(
-            rheology, augmentation, self.nonlinear, self.strain, self.multiplier))
+            rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
 
     @property
     def velocity(self) -> ngs.CoefficientFunction:
@@ -205,6 +207,7 @@ class FlowSolver:
         if self.augmented is not None:
             state["strain"] = self.strain.vec.FV().NumPy().copy()
             state["multiplier"] = self.multiplier.vec.FV().NumPy().copy()
+            state["augmentation"] = self.augmentation.Get()
         return state
 
     def restore_history(self, state: dict[str, object]) -> None:
@@ -217,6 +220,8 @@ class FlowSolver:
         if self.augmented is not None:
             self.strain.vec.FV().NumPy()[:] = state["strain"]
             self.multiplier.vec.FV().NumPy()[:] = state["multiplier"]
+            if "augmentation" in state:
+                self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:

@@ -16,7 +16,7 @@ from granflow.ale.column_mover import ColumnMover
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import EdgeSize, boundary_edge_sizes, remesh, shape_quality
 from granflow.ale.surface_tension import SurfaceTension
-from granflow.ale.transfer import transfer_state
+from granflow.ale.transfer import transfer_state, transfer_tensor
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
 from granflow.diagnostics.interface import lower_envelope
@@ -89,6 +89,10 @@ class ColumnCollapse:
             solver.dt_previous = old_solver.dt_previous
         solver.solution.vec.data = solver.previous.vec
         solver.extrapolation_won = old_solver.extrapolation_won
+        if old_solver.augmented is not None:     # the augmented Lagrangian's warm start
+            transfer_tensor(old_solver.strain, solver.strain)
+            transfer_tensor(old_solver.multiplier, solver.multiplier)
+            solver.augmentation.Set(old_solver.augmentation.Get())
         mover.inherit(old_mover)
         self.mesh, self.solver, self.mover = mesh, solver, mover
         self.simulation.replace(solver, mover)
