@@ -2,6 +2,11 @@
 
 Run: python benchmarks/slopes.py [--slopes 0 10 16 22] [--beds rigid erodible]
          [--shapes trapezoid rectangle] [--set key=value ...] [--out benchmarks/results/slopes]
+         [--collect]
+
+--collect runs nothing: it reads the summaries of the selected runs already in OUT/runs
+(for example runs continued with `granflow resume OUT/runs/NAME` after an interruption)
+into slopes.json and slopes.md.
 
 Each run goes to OUT/runs/SHAPE-BED-SLOPE (a normal run directory); OUT/slopes.json collects
 status, stop time, runout (the front of the mass, over a layer the eroding mass) and
@@ -75,6 +80,8 @@ def main() -> None:
     parser.add_argument("--shapes", nargs="+", default=["trapezoid", "rectangle"])
     parser.add_argument("--set", dest="extra", action="append", default=[])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/slopes"))
+    parser.add_argument("--collect", action="store_true",
+                        help="read the summaries of existing runs instead of running")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     store = args.out / "slopes.json"
@@ -83,6 +90,13 @@ def main() -> None:
         for bed in args.beds:
             for slope in args.slopes:
                 name = f"{shape}-{bed}-{slope:g}"
+                if args.collect:
+                    summary_file = args.out / "runs" / name / "summary.json"
+                    if summary_file.exists():
+                        summary = json.loads(summary_file.read_text())
+                        results[name] = {k: summary.get(k) for k in KEYS} | {
+                            "shape": shape, "bed": bed, "slope": slope}
+                    continue
                 rigid = results.get(f"{shape}-rigid-{slope:g}", {}).get("runout_m")
                 config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope, rigid),
                                                        *args.extra])
@@ -94,6 +108,8 @@ def main() -> None:
                 print(name, json.dumps(results[name]), flush=True)
                 atomic_write_text(store, json.dumps(results, indent=2))
                 atomic_write_text(args.out / "slopes.md", table(results))
+    atomic_write_text(store, json.dumps(results, indent=2))
+    atomic_write_text(args.out / "slopes.md", table(results))
     print(table(results))
 
 

@@ -193,9 +193,15 @@ class FlowSolver:
             self.before_previous.vec.data = self.previous.vec
             self.dt_previous = dt
         self.previous.vec.data = self.solution.vec
+        if self.augmented is not None:
+            self.augmented.remember()
 
     def reject(self) -> None:
+        """Back to the state at the start of the rejected step (and the augmented
+        Lagrangian's d, lambda and r: a failed iteration's are no start for the retry)."""
         self.solution.vec.data = self.previous.vec
+        if self.augmented is not None:
+            self.augmented.restore()
 
     def save_history(self) -> dict[str, object]:
         """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the
@@ -222,6 +228,7 @@ class FlowSolver:
             self.multiplier.vec.FV().NumPy()[:] = state["multiplier"]
             if "augmentation" in state:
                 self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
+            self.augmented.remember()
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:

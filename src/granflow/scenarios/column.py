@@ -93,6 +93,7 @@ class ColumnCollapse:
             transfer_tensor(old_solver.strain, solver.strain)
             transfer_tensor(old_solver.multiplier, solver.multiplier)
             solver.augmentation.Set(old_solver.augmentation.Get())
+            solver.augmented.remember()
         mover.inherit(old_mover)
         self.mesh, self.solver, self.mover = mesh, solver, mover
         self.simulation.replace(solver, mover)
