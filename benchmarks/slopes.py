@@ -4,14 +4,15 @@ Run: python benchmarks/slopes.py [--slopes 0 10 16 22] [--beds rigid erodible]
          [--shapes trapezoid rectangle] [--set key=value ...] [--out benchmarks/results/slopes]
          [--collect]
 
---collect runs nothing: it reads the summaries of the selected runs already in OUT/runs
+--collect runs nothing: it reads the summaries of the selected runs now in OUT/runs
 (for example runs continued with `granflow resume OUT/runs/NAME` after an interruption)
 into slopes.json and slopes.md.
 
 Each run goes to OUT/runs/SHAPE-BED-SLOPE (a normal run directory); OUT/slopes.json collects
 status, stop time, runout (the front of the mass, over a layer the eroding mass) and
 counters, and OUT/slopes.md the table of runout, stop time and erodible/rigid runout ratio
-against slope. The erodible variants are the scenarios' columns standing on the 5 mm layer
+against slope (the ratio once the erodible run's front is at rest, even where a few cells
+behind it still creep). The erodible variants are the scenarios' columns standing on the 5 mm layer
 of `trapezoid-erodible` (h0 including the layer, the layer's end at `bed_length`), with its
 surface tension and mesh velocity; every run uses `boundary.normal_load = "reaction"` (the
 friction load whose sliding-block error is under 0.5 %); nothing else changes with slope.
@@ -31,7 +32,7 @@ from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "linear_solves", "wall_time_s",
         "stop_time_s", "runout_m", "runout_1mm_m", "volume_relative_error", "n_triangles",
-        "remeshes", "surface_tension_steps"]
+        "remeshes", "surface_tension_steps", "front_stop_time_s"]
 ERODIBLE = ["geometry.erodible_thickness=0.005", "numerics.mesh_velocity=elastic",
             "surface_tension.enabled=true", "mesh.layer_cells=2"]
 COMMON = ["boundary.normal_load=reaction"]   # the basal friction decides the runout on a slope
@@ -51,13 +52,15 @@ def overrides(shape: str, bed: str, slope: float, rigid_runout: float | None) ->
 
 def table(results: dict[str, dict]) -> str:
     lines = ["| shape | slope (deg) | runout rigid (m) | runout erodible (m) | ratio | "
-             "stop rigid (s) | stop erodible (s) |", "|---|---|---|---|---|---|---|"]
+             "stop rigid (s) | stop erodible (s) | erodible front at rest (s) |",
+             "|---|---|---|---|---|---|---|---|"]
     keys = sorted({(r["shape"], r["slope"]) for r in results.values()})
     for shape, slope in keys:
         rigid = results.get(f"{shape}-rigid-{slope:g}", {})
         ero = results.get(f"{shape}-erodible-{slope:g}", {})
-        ratio = (ero["runout_m"] / rigid["runout_m"] if ero.get("status") == "stopped"
-                 and ero.get("runout_m") and rigid.get("runout_m") else None)
+        settled = ero.get("status") == "stopped" or ero.get("front_stop_time_s") is not None
+        ratio = (ero["runout_m"] / rigid["runout_m"] if settled and ero.get("runout_m")
+                 and rigid.get("runout_m") else None)
 
         def fmt(run: dict, key: str) -> str:
             if run.get("status") in ("failed", "unfinished"):
@@ -69,7 +72,8 @@ def table(results: dict[str, dict]) -> str:
 
         lines.append(f"| {shape} | {slope:g} | {fmt(rigid, 'runout_m')} | "
                      f"{fmt(ero, 'runout_m')} | {'-' if ratio is None else f'{ratio:.3f}'} | "
-                     f"{fmt(rigid, 'stop_time_s')} | {fmt(ero, 'stop_time_s')} |")
+                     f"{fmt(rigid, 'stop_time_s')} | {fmt(ero, 'stop_time_s')} | "
+                     f"{fmt(ero, 'front_stop_time_s')} |")
     return "\n".join(lines) + "\n"
 
 
@@ -92,8 +96,9 @@ def main() -> None:
                 name = f"{shape}-{bed}-{slope:g}"
                 if args.collect:
                     summary_file = args.out / "runs" / name / "summary.json"
-                    if summary_file.exists():
-                        summary = json.loads(summary_file.read_text())
+                    summary = (json.loads(summary_file.read_text())
+                               if summary_file.exists() else {"status": "running"})
+                    if summary["status"] != "running":     # (a live run is not collected)
                         results[name] = {k: summary.get(k) for k in KEYS} | {
                             "shape": shape, "bed": bed, "slope": slope}
                     continue
