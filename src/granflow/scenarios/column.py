@@ -5,6 +5,7 @@ free-surface treatments (``ale/``) and the loop."""
 from __future__ import annotations
 
 import copy
+import math
 import pickle
 from dataclasses import dataclass, field
 from typing import Any
@@ -19,8 +20,10 @@ from granflow.ale.surface_tension import SurfaceTension
 from granflow.ale.transfer import transfer_state, transfer_tensor
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
+from granflow.diagnostics.inertial import InertialNumbers
 from granflow.diagnostics.interface import lower_envelope
-from granflow.diagnostics.state import flowing_cells
+from granflow.diagnostics.state import FLOWING_SPEED, flowing_cells
+from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
@@ -28,7 +31,7 @@ from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
-from granflow.physics import CoulombFriction, gravity_vector
+from granflow.physics import CoulombFriction, MuI, gravity_vector
 from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
@@ -56,6 +59,7 @@ class ColumnCollapse:
     remesh_changes: list[float] = field(default_factory=list)  # relative area, per remesh
     remesh_restored: list[float] = field(default_factory=list)  # area its simplification lost
     unrecorded_change: float = 0.0   # area change of the remeshes since the last diagnostics row
+    inertial: InertialNumbers | None = None     # mu(I) runs: I in the flowing cells
 
     # --- remeshing (the loop calls these; they replace mesh, solver and mover) ----------
     def needs_remesh(self) -> bool:
@@ -109,7 +113,8 @@ class ColumnCollapse:
                 "mover": self.mover.save_state(), "history": copy.deepcopy(self.history),
                 "remeshes": self.remeshes,
                 "fresh_quality": self.fresh_quality, "remesh_changes": list(self.remesh_changes),
-                "remesh_restored": list(self.remesh_restored)}
+                "remesh_restored": list(self.remesh_restored),
+                "inertial": copy.deepcopy(self.inertial)}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
@@ -123,6 +128,7 @@ class ColumnCollapse:
         self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
         self.remesh_changes = list(state["remesh_changes"])
         self.remesh_restored = list(state["remesh_restored"])
+        self.inertial = copy.deepcopy(state.get("inertial", self.inertial))
 
     # --- observers' side ---------------------------------------------------------------
     def front(self) -> float:
@@ -143,6 +149,8 @@ class ColumnCollapse:
         speed = float(cell_speed[at_front].max())      # cells touching the front vertex
         out = {"front_x": x_front, "front_speed": speed,
                "wall_height": front_diag.wall_height(xy)}
+        if self.inertial is not None:
+            self._add_inertial_numbers(cell_speed > FLOWING_SPEED)
         out["area_correction"] = self.mover.step_correction
         out["remesh_area_change"] = self.unrecorded_change
         tension = self.mover.tension
@@ -150,6 +158,17 @@ class ColumnCollapse:
             out["tension_on"] = float(tension.state.active)
             out["tension_x"] = tension.state.critical_x if tension.state.active else np.nan
         return out
+
+    def _add_inertial_numbers(self, flowing: np.ndarray) -> None:
+        """This step's I in the flowing cells (``diagnostics/inertial.py``)."""
+        solver = self.solver
+        shear_rate = math.sqrt(2.0) * solver.strain_rate_norm()
+        law = solver.rheology
+        assert isinstance(law, MuI) and self.inertial is not None
+        values, areas = cell_means(self.mesh, law.inertial_number(shear_rate, solver.pressure,
+                                                                  NGSOLVE_OPS))
+        dt = self.simulation.dt
+        self.inertial.add(values[flowing], areas[flowing] * dt)
 
     def record(self, row: dict[str, float]) -> None:
         for key, values in self.history.items():
@@ -239,6 +258,8 @@ class ColumnCollapse:
             "area_correction_net": self.mover.correction_net,     # their signed sum
             "surface_tension_steps": (self.mover.tension.state.active_steps
                                       if self.mover.tension is not None else None),
+            "inertial_number_flowing": (self.inertial.summary()
+                                        if self.inertial is not None else None),
         }
 
     def plot(self, run_dir: RunDir) -> None:
@@ -287,7 +308,9 @@ def build_column(config: Config) -> ColumnCollapse:
                             max_iterations=config.numerics.max_iterations, mesh_motion=mover,
                             velocity_floor=config.numerics.velocity_floor)
     problem = ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
-                             mover=mover, simulation=simulation)
+                             mover=mover, simulation=simulation,
+                             inertial=(InertialNumbers() if isinstance(solver.rheology, MuI)
+                                       else None))
     simulation.remesher = problem
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(problem.flowing_fraction,
