@@ -22,7 +22,7 @@ def test_quantiles_of_the_histogram_match_the_weighted_sample_within_a_bin() -> 
     stats.add(values[1500:], weights[1500:])
     order = np.argsort(values)
     cumulative = np.cumsum(weights[order]) / weights.sum()
-    for q, key in ((0.05, "p05"), (0.5, "p50"), (0.95, "p95")):
+    for q, key in ((0.05, "p05"), (0.5, "p50"), (0.95, "p95"), (0.99, "p99")):
         exact = values[order][np.searchsorted(cumulative, q)]
         assert exact <= stats.summary()[key] <= exact * 10 ** 0.05 * 1.0001   # one bin
     assert stats.summary()["max"] == values.max()

@@ -41,8 +41,10 @@ class InertialNumbers:
         return float(EDGES[min(k, len(EDGES) - 1)])
 
     def summary(self) -> dict[str, Any] | None:
-        """Quantiles 5, 50, 95 % and the largest cell mean, or None without flowing cells."""
+        """Quantiles 5, 50, 95, 99 % and the largest cell mean (a cell at the free surface,
+        where p -> 0 sends I to infinity: the quantiles are the measure), or None without
+        flowing cells."""
         if self.weights.sum() <= 0:
             return None
         return {"p05": self.quantile(0.05), "p50": self.quantile(0.5),
-                "p95": self.quantile(0.95), "max": self.largest}
+                "p95": self.quantile(0.95), "p99": self.quantile(0.99), "max": self.largest}

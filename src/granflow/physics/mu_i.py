@@ -22,7 +22,7 @@ stays finite there (the shift is eps d ~ 1e-9 m/s for eps = 1e-6 1/s, d = 1 mm).
 Ill-posedness (Barker et al. 2015, J. Fluid Mech. 779, 794-818): incompressible mu(I) is
 ill-posed at low and at high I. granflow keeps the constant viscosity eta of (2.13) (> 0 in
 every configuration) beside mu(I), and a column run reports the inertial numbers its
-flowing cells reach (summary.json ``inertial_number_flowing``: quantiles 5/50/95 % and the
+flowing cells reach (summary.json ``inertial_number_flowing``: quantiles 5/50/95/99 % and the
 largest, ``diagnostics/inertial.py``); the partial regularisation of Barker and Gray (2017)
 is not implemented.
 """
