@@ -16,6 +16,9 @@ import argparse
 import json
 from pathlib import Path
 
+import numpy as np
+from rheologies import curves, distances
+
 from granflow.config import config_to_toml, load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.simulation.runner import run_simulation
@@ -37,7 +40,7 @@ def main() -> None:
     for scenario in args.scenarios:
         for label, extra in (("no side walls", []), ("side walls", walls)):
             config = load_config(scenario, ["time.stop_at_rest=true", "time.t_end=2.0",
-                                            "time.output_times=[]", *extra])
+                                            *extra])
             name = f"{scenario}_{'walls' if extra else 'plain'}"
             run_dir = RunDir.create(args.out / "runs" / name, force=True)
             run_dir.write_text("config.toml", config_to_toml(config))
@@ -45,7 +48,28 @@ def main() -> None:
             rows.append({"scenario": scenario, "case": label,
                          **{k: summary.get(k) for k in KEYS}})
             print(json.dumps(rows[-1]), flush=True)
+        plain, walled = (args.out / "runs" / f"{scenario}_{k}" for k in ("plain", "walls"))
+        rows[-1]["free_surface_vs_plain_mm"] = distances(curves(plain, "free_surface"),
+                                                         curves(walled, "free_surface"))
+        rows[-1]["interface_vs_plain_mm"] = distances(curves(plain, "interface"),
+                                                      curves(walled, "interface"))
+        rows[-1]["interface_rise_mm"] = rise(curves(plain, "interface"),
+                                             curves(walled, "interface"))
+        print(json.dumps(rows[-1]), flush=True)
     write(args.out, rows, args.width, args.angle)
+
+
+def rise(plain: dict[float, np.ndarray], walled: dict[float, np.ndarray]) -> dict[str, float]:
+    """Mean of z_walls - z_plain (mm) of the interfaces over the stations both define."""
+    out = {}
+    for t in plain:
+        if t in walled:
+            a, b = plain[t], walled[t]
+            lo, hi = max(a[0, 0], b[0, 0]), min(a[-1, 0], b[-1, 0])
+            x = np.linspace(lo, hi, 200)
+            out[f"{t:g}"] = round(1e3 * float(np.mean(np.interp(x, *b.T) - np.interp(x, *a.T))),
+                                  2)
+    return out
 
 
 def write(out: Path, rows: list[dict], width: float, angle: float) -> None:
@@ -58,6 +82,15 @@ def write(out: Path, rows: list[dict], width: float, angle: float) -> None:
     lines += [f"| {r['scenario']} | {r['case']} | {fmt(r['runout_m'], 4)} | "
               f"{fmt(r['stop_time_s'], 3)} | {fmt(r['front_stop_time_s'], 3)} | "
               f"{fmt(r['wall_height_m'], 4)} |" for r in rows]
+    for r in rows:
+        if r.get("interface_vs_plain_mm"):
+            lines += ["", f"{r['scenario']}, with against without side walls, mean/max (mm) "
+                      "at the output times:"]
+            for key in ("free_surface_vs_plain_mm", "interface_vs_plain_mm"):
+                lines.append(f"- {key[:-12]}: " + ", ".join(
+                    f"{t} s: {a}/{b}" for t, (a, b) in r[key].items()))
+            lines.append("- interface rise with walls (mean, mm): " + ", ".join(
+                f"{t} s: {v}" for t, v in r["interface_rise_mm"].items()))
     atomic_write_text(out / "side_walls.json", json.dumps(rows, indent=2))
     atomic_write_text(out / "side_walls.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
