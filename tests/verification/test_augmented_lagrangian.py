@@ -89,3 +89,20 @@ def test_column_first_steps_match_the_regularised_velocity() -> None:
     difference = ngs.Integrate(ngs.InnerProduct(gap, gap), mesh)
     size = ngs.Integrate(ngs.InnerProduct(reference, reference), mesh)
     assert 0.0 < difference < 0.02 ** 2 * size
+
+
+def test_a_rejected_step_restores_d_lambda_and_r() -> None:
+    """A step that fails (too few iterations) and is rejected leaves d, lambda and r as they
+    were after the last accepted step, so that its retry starts from there."""
+    problem = build_plug_flow(load_config("plug-flow", CELL + [
+        "numerics.method=augmented-lagrangian", "time.t_end=0.025"]))
+    problem.simulation.run()
+    solver = problem.solver
+    before = (solver.strain.vec.FV().NumPy().copy(), solver.multiplier.vec.FV().NumPy().copy(),
+              solver.augmentation.Get())
+    assert not solver.solve_step(1.25e-2, 1e-12, 3).converged
+    assert abs(solver.multiplier.vec.FV().NumPy() - before[1]).max() > 0   # it did move them
+    solver.reject()
+    assert (solver.strain.vec.FV().NumPy() == before[0]).all()
+    assert (solver.multiplier.vec.FV().NumPy() == before[1]).all()
+    assert solver.augmentation.Get() == before[2]
