@@ -152,7 +152,8 @@ def plot(out: Path, shape: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    runs = {law: curves(out / "runs" / f"{shape}-{law}", "free_surface") for law in LAWS}
+    runs = {law: curves(out / "runs" / f"{shape}-{law}", "free_surface") for law in LAWS
+            if (out / "runs" / f"{shape}-{law}" / "config.toml").exists()}
     runs = {law: family for law, family in runs.items() if family}
     if "drucker-prager" not in runs:
         return
