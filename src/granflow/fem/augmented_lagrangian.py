@@ -28,8 +28,8 @@ p, as Picard's (3.2) lags p. The pressure of an iterate is not the physical one 
 Du != d (it balances r (Du - d) as well): taking kappa from the latest p at every
 iteration (or from the previous iteration's) made the first step of a column oscillate
 for ever (velocity changes of 1e-4 to 1e-1 per iteration with r = 1e4 Pa s); with kappa
-frozen the same step converges. On the first step of a column the refreshes move p by
-35 %, 19 %, 8 %, 5 %, ... (the release makes it non-hydrostatic), then by 1e-3 per step.
+frozen the same step converges. On the first step of a rectangle the refreshes moved p by
+35 %, 19 %, 8 %, 5 %, ... (the release makes it non-hydrostatic).
 
 r is balanced during the iteration (Boyd et al. 2011, Found. Trends Mach. Learn. 3,
 section 3.4.1): the relative primal residual ||Du - d|| / ||Du|| and dual residual
