@@ -51,10 +51,9 @@ def main() -> None:
         plain, walled = (args.out / "runs" / f"{scenario}_{k}" for k in ("plain", "walls"))
         rows[-1]["free_surface_vs_plain_mm"] = distances(curves(plain, "free_surface"),
                                                          curves(walled, "free_surface"))
-        rows[-1]["interface_vs_plain_mm"] = distances(curves(plain, "interface"),
-                                                      curves(walled, "interface"))
-        rows[-1]["interface_rise_mm"] = rise(curves(plain, "interface"),
-                                             curves(walled, "interface"))
+        interfaces = curves(plain, "interface"), curves(walled, "interface")
+        rows[-1]["interface_vs_plain_mm"] = distances(*interfaces)
+        rows[-1]["interface_rise_mm"] = rise(*interfaces)
         print(json.dumps(rows[-1]), flush=True)
     write(args.out, rows, args.width, args.angle)
 

@@ -127,12 +127,14 @@ def transfer_tensor(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
     lambda only start the next iteration, which converges to the same step whatever its
     start."""
     mesh, old_mesh = new.space.mesh, old.space.mesh
-    xy = mesh.ngmesh.Coordinates()
-    scalar = ngs.GridFunction(ngs.L2(old_mesh, order=1))  # (a point value of the symmetric
-    components = []                                     # tensor space itself prints noise)
-    for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)):
-        scalar.Set(old[i, j])
+    entries = ((0, 0), (0, 1), (1, 0), (1, 1))
+    scalars = ngs.GridFunction(ngs.L2(old_mesh, order=1) ** len(entries))  # (a point value
+    for (i, j), scalar in zip(entries, scalars.components, strict=True):   # of the tensor
+        scalar.Set(old[i, j])                                              # space prints noise)
+    values = sample(ngs.CF(tuple(scalars.components)), old_mesh, mesh.ngmesh.Coordinates())
+    components = []
+    for c in range(len(entries)):
         vertex_field = ngs.GridFunction(ngs.H1(mesh, order=1))
-        vertex_field.vec.FV().NumPy()[:] = sample(scalar, old_mesh, xy)[:, 0]
+        vertex_field.vec.FV().NumPy()[:] = values[:, c]
         components.append(vertex_field)
     new.Set(ngs.CF(tuple(components), dims=(2, 2)))
