@@ -67,8 +67,8 @@ def test_picard_and_newton_share_the_residual(solver: FlowSolver) -> None:
     """At any state, A(x) x - f of the fixed-point forms equals the Newton residual R(x)."""
     s = solver
     picard = s.nonlinear.picard_system
-    picard.a.Assemble()
-    picard.f.Assemble()
+    picard.prepare()
+    picard.assemble()
     ax = s.solution.vec.CreateVector()
     ax.data = picard.a.mat * s.solution.vec
     ax.data -= picard.f.vec

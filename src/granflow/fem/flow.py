@@ -81,8 +81,9 @@ class FlowSolver:
             walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls,
             stress=stress)
         freedofs = self.space.FreeDofs()
-        picard = FixedPointSystem(*fixed_point_forms(self.space, self.terms, self.solution),
-                                  freedofs, linear_solver)
+        forms = fixed_point_forms(self.space, self.terms, self.solution)
+        picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
+                                  constant=forms.constant)
         self.nonlinear = NonlinearSolver(
             picard=picard,
             newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),

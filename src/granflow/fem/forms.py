@@ -60,7 +60,11 @@ class Symbols:
 
 
 class Term(Protocol):
-    """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p)."""
+    """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p).
+
+    A term whose ``lhs`` does not read (u_lin, p_lin) sets ``step_constant = True``: the
+    fixed-point iteration assembles it once per step instead of once per iteration.
+    """
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
@@ -85,6 +89,7 @@ class Inertia:
     density: float
     dt: ngs.Parameter
     previous: ngs.CoefficientFunction
+    step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         return self.density / self.dt * s.u * s.v * ngs.dx
@@ -134,6 +139,8 @@ class ViscoplasticStress(_LhsOnly):
 @dataclass(frozen=True)
 class Incompressibility(_LhsOnly):
     """-p div v - q div u: the pressure and the constraint (3.2a)-(3.2b)."""
+
+    step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         return (-s.p * ngs.div(s.v) - s.q * ngs.div(s.u)) * ngs.dx
@@ -205,6 +212,7 @@ class NormalPenalty(_LhsOnly):
 
     region: str
     penalty: float
+    step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         n = ngs.specialcf.normal(mesh.dim)
@@ -283,15 +291,29 @@ def residual_form(space: ngs.FESpace, terms: Sequence[Term]) -> ngs.BilinearForm
     return form
 
 
+@dataclass(frozen=True)
+class FixedPointForms:
+    """The matrix of one Picard iteration (3.2) split as ``iterate`` (coefficients at the
+    iterate: reassembled every iteration) + ``constant`` (fixed during a step), and the
+    right-hand side ``rhs``."""
+
+    iterate: ngs.BilinearForm
+    constant: ngs.BilinearForm
+    rhs: ngs.LinearForm
+
+
 def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
-                      iterate: ngs.GridFunction) -> tuple[ngs.BilinearForm, ngs.LinearForm]:
+                      iterate: ngs.GridFunction) -> FixedPointForms:
     """The same terms with coefficients frozen at ``iterate``: the matrix and right-hand
     side of one Picard iteration (3.2)."""
     s = _symbols(space, iterate)
-    a, f = ngs.BilinearForm(space), ngs.LinearForm(space)
+    a, a0, f = ngs.BilinearForm(space), ngs.BilinearForm(space), ngs.LinearForm(space)
     for term in terms:
         if (lhs := term.lhs(s, space.mesh)) is not None:
-            a += lhs
+            if getattr(term, "step_constant", False):
+                a0 += lhs
+            else:
+                a += lhs
         if (rhs := term.rhs(s, space.mesh)) is not None:
             f += rhs
-    return a, f
+    return FixedPointForms(iterate=a, constant=a0, rhs=f)

@@ -58,20 +58,38 @@ class IterationReport:
 
 
 class FixedPointSystem:
-    """The matrix A(x^k) and right-hand side f of (3.2), with a reusable LU of A."""
+    """The matrix A(x^k) = A_k + A_0 and right-hand side f of (3.2), with a reusable LU.
+
+    A_0 (``constant``: inertia, incompressibility, penalty) is assembled once per step and
+    added to A_k, the part whose coefficients read the iterate, at each iteration (both
+    forms share the sparsity pattern of the space).
+    """
 
     def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray,
-                 solver: str = "umfpack") -> None:
-        self.a, self.f = a, f
+                 solver: str = "umfpack", constant: ngs.BilinearForm | None = None) -> None:
+        self.a, self.f, self.constant = a, f, constant
         self.lu = ReusableLU(a, freedofs, solver)
 
     def prepare(self) -> None:
         """Assemble what stays fixed during one step's iterations."""
         self.f.Assemble()
+        if self.constant is not None:
+            self.constant.Assemble()
+
+    def assemble(self) -> ngs.BaseMatrix:
+        """A(x^k) = A_k + A_0 into ``a.mat`` (A_0 as ``prepare`` left it)."""
+        self.a.Assemble()
+        if self.constant is not None:
+            total, part = self.a.mat.AsVector(), self.constant.mat.AsVector()
+            if len(total) != len(part):
+                raise RuntimeError("the step-constant and iterate parts of (3.2) have "
+                                   "different sparsity patterns")
+            total.data += part
+        return self.a.mat
 
     def iterate(self, out: ngs.BaseVector) -> None:
         """x^{k+1} = A(x^k)^-1 f; A reads x^k from the iterate it was built on."""
-        self.a.Assemble()
+        self.assemble()
         self.lu.update()
         self.lu.solve(self.f.vec, out)
 
