@@ -2,10 +2,12 @@
 
 Incompressible mu(I) is ill-posed at low and at high I (Barker, Schaeffer, Bohorquez and
 Gray 2015, J. Fluid Mech. 779, 794-818); granflow does not regularise it (physics/mu_i.py),
-so a run reports where it sat: the distribution of I = sqrt(2) |Du| d / sqrt([p]_+ / rho_s)
-over the flowing cells (mean |u| > 1 mm/s), cell means weighted by area x dt, summed over
-the accepted steps. Kept as a histogram of 20 log-spaced bins per decade (quantiles good
-to 12 %), from 1e-8 to 1e2; values outside land in the end bins.
+so a run reports where it sat and how much of it sat in the law's well-posed window
+(``physics/well_posedness.py``; fraction 0 when the law has no window): the distribution
+of I = sqrt(2) |Du| d / sqrt([p]_+ / rho_s) over the flowing cells (mean |u| > 1 mm/s),
+cell means weighted by area x dt, summed over the accepted steps. Kept as a histogram of 20
+log-spaced bins per decade (quantiles good to 12 %), from 1e-8 to 1e2; values outside land
+in the end bins.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ class InertialNumbers:
 
     weights: np.ndarray = field(default_factory=lambda: np.zeros(len(EDGES) + 1))
     largest: float = 0.0
+    well_posed: tuple[float, float] | None = None   # (I_N1, I_N2) of the law, or None
 
     def add(self, values: np.ndarray, weights: np.ndarray) -> None:
         """Cell means of I and their weights (area x dt) of one step."""
@@ -40,11 +43,23 @@ class InertialNumbers:
         k = int(np.searchsorted(np.cumsum(self.weights) / total, q))
         return float(EDGES[min(k, len(EDGES) - 1)])
 
+    def fraction_between(self, low: float, high: float) -> float:
+        """Weight fraction of the bins that lie inside [low, high] (to the bin width)."""
+        total = self.weights.sum()
+        lower = np.concatenate([[0.0], EDGES])          # bin k holds EDGES[k-1] < I <= EDGES[k]
+        upper = np.concatenate([EDGES, [np.inf]])
+        inside = (lower >= low) & (upper <= high)
+        return float(self.weights[inside].sum() / total) if total > 0 else 0.0
+
     def summary(self) -> dict[str, Any] | None:
         """Quantiles 5, 50, 95, 99 % and the largest cell mean (a cell at the free surface,
-        where p -> 0 sends I to infinity: the quantiles are the measure), or None without
+        where p -> 0 sends I to infinity: the quantiles are the measure), the well-posed
+        window and the fraction of the flowing area x time inside it, or None without
         flowing cells."""
         if self.weights.sum() <= 0:
             return None
+        window = self.well_posed
         return {"p05": self.quantile(0.05), "p50": self.quantile(0.5),
-                "p95": self.quantile(0.95), "p99": self.quantile(0.99), "max": self.largest}
+                "p95": self.quantile(0.95), "p99": self.quantile(0.99), "max": self.largest,
+                "well_posed_window": list(window) if window else None,
+                "well_posed_fraction": self.fraction_between(*window) if window else 0.0}

@@ -23,8 +23,11 @@ Ill-posedness (Barker et al. 2015, J. Fluid Mech. 779, 794-818): incompressible 
 ill-posed at low and at high I. granflow keeps the constant viscosity eta of (2.13) (> 0 in
 every configuration) beside mu(I), and a column run reports the inertial numbers its
 flowing cells reach (summary.json ``inertial_number_flowing``: quantiles 5/50/95/99 % and the
-largest, ``diagnostics/inertial.py``); the partial regularisation of Barker and Gray (2017)
-is not implemented.
+largest, ``diagnostics/inertial.py``) and the share of them inside the law's well-posed
+window (``physics/well_posedness.py``). With the paper's mu_s = tan 25.5 deg beside
+mu_2 = tan 32.76 deg the law has no such window (C > 0 at every I), so the partial
+regularisation of Barker and Gray (2017), which alters mu below the window, is not
+implemented.
 """
 
 from __future__ import annotations

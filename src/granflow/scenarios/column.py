@@ -32,6 +32,7 @@ from granflow.geometry.domains import Polygon, column
 from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh, signed_areas
 from granflow.io.run_dir import RunDir
 from granflow.physics import CoulombFriction, MuI, gravity_vector
+from granflow.physics.well_posedness import well_posed_window
 from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
@@ -289,6 +290,13 @@ def layer_edge_sizes(config: Config) -> EdgeSize | None:
     return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
 
 
+def _inertial_numbers(law: object) -> InertialNumbers | None:
+    """mu(I) runs record their inertial numbers and the law's well-posed window."""
+    if not isinstance(law, MuI):
+        return None
+    return InertialNumbers(well_posed=well_posed_window(law))
+
+
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     geo, mat = config.geometry, config.material
@@ -309,8 +317,7 @@ def build_column(config: Config) -> ColumnCollapse:
                             velocity_floor=config.numerics.velocity_floor)
     problem = ColumnCollapse(config=config, polygon=polygon, mesh=mesh, solver=solver,
                              mover=mover, simulation=simulation,
-                             inertial=(InertialNumbers() if isinstance(solver.rheology, MuI)
-                                       else None))
+                             inertial=_inertial_numbers(solver.rheology))
     simulation.remesher = problem
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(problem.flowing_fraction,
