@@ -89,3 +89,89 @@ def test_close_folds_cuts_the_pocket_where_the_front_touches_the_layer() -> None
     assert new_labels == ["bed", "end", "surface", "surface", "surface", "surface", "wall"]
     assert close_folds(pts[:3] + pts[7:], labels[:3] + labels[7:]) == (
         pts[:3] + pts[7:], labels[:3] + labels[7:])     # nothing folded: unchanged
+
+
+def _all_pairs_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
+    """The exact test on every pair of segments (what segments_intersect prunes)."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+
+    def cross(u: np.ndarray, v: np.ndarray) -> float:
+        return float(u[0] * v[1] - u[1] * v[0])
+
+    for a in range(len(segments)):
+        for b in range(a + 1, len(segments)):
+            if set(segments[a]) & set(segments[b]):
+                continue
+            d1, d2 = q[a] - p[a], q[b] - p[b]
+            r = cross(d1, p[b] - p[a]) * cross(d1, q[b] - p[a])
+            s = cross(d2, p[a] - p[b]) * cross(d2, q[a] - p[b])
+            if r < 0 and s < 0:
+                return True
+    return False
+
+
+def test_pruned_intersection_test_agrees_with_all_pairs() -> None:
+    """Random closed polylines with edges of very different lengths, folded and not: the
+    k-d tree's candidate pairs lose no crossing."""
+    rng = np.random.default_rng(7)
+    crossings = 0
+    for trial in range(300):
+        n = int(rng.integers(4, 40))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+        radius = rng.uniform(0.2, 1.0, n) ** (3 if trial % 3 == 0 else 1)
+        xy = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
+        if trial % 2:                                   # swap two vertices: often a fold
+            a, b = rng.choice(n, 2, replace=False)
+            xy[[a, b]] = xy[[b, a]]
+        ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
+        expected = _all_pairs_intersect(xy, ring)
+        crossings += expected
+        assert segments_intersect(xy, ring) == expected
+    assert 30 < crossings < 270
+
+
+def _close_folds_pairwise(points, labels, gap):
+    """close_folds as first written: every vertex against every edge in Python loops."""
+    from granflow.geometry.mesh import SURFACE
+
+    pts = np.asarray(points, dtype=float)
+    n = len(pts)
+    for i in [i for i in range(n) if labels[i - 1] == labels[i] == SURFACE]:
+        edge = min(np.linalg.norm(pts[i] - pts[i - 1]), np.linalg.norm(pts[(i + 1) % n] - pts[i]))
+        for j in range(n):
+            if labels[j] != SURFACE or i in (j, (j + 1) % n) or (i - 1) % n == j:
+                continue
+            a, d = pts[j], pts[(j + 1) % n] - pts[j]
+            s = float(np.clip(np.dot(pts[i] - a, d) / max(np.dot(d, d), 1e-300), 0, 1))
+            if np.linalg.norm(pts[i] - (a + s * d)) >= gap * edge:
+                continue
+            forward, backward = (j - i) % n, (i - j - 1) % n
+            drop = ({(i + k) % n for k in range(1, forward + 1)} if forward <= backward
+                    else {(j + k) % n for k in range(1, backward + 1)})
+            if any(labels[k - 1] != SURFACE or labels[k] != SURFACE for k in drop):
+                continue
+            keep = [k for k in range(n) if k not in drop]
+            return _close_folds_pairwise([points[k] for k in keep], [labels[k] for k in keep],
+                                         gap)
+    return points, labels
+
+
+def test_vectorised_close_folds_agrees_with_the_pairwise_loops() -> None:
+    """Random overturning fronts over a flat layer: the same pockets are cut."""
+    from granflow.ale.remesh import FOLD_GAP, close_folds
+    from granflow.geometry.mesh import BED, SURFACE, WALL
+
+    rng = np.random.default_rng(3)
+    cut = 0
+    for _ in range(200):
+        m = int(rng.integers(6, 30))
+        t = np.linspace(0, 1, m)
+        surface = np.column_stack([0.2 + 0.3 * t + rng.normal(0, 0.01, m),
+                                   0.2 * (1 - t) ** 2 + rng.uniform(0.0, 0.004, m)])
+        points = [(0.0, 0.0), (1.0, 0.0), (1.0, 0.005)] + [tuple(p) for p in surface[::-1]]
+        points += [(0.0, 0.2)]
+        labels = [BED, BED, SURFACE] + [SURFACE] * m + [WALL]
+        expected = _close_folds_pairwise(points, labels, FOLD_GAP)
+        assert close_folds(points, labels) == expected
+        cut += len(expected[0]) < len(points)
+    assert 10 < cut < 190

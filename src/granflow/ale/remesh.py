@@ -131,17 +131,17 @@ def close_folds(points: list[tuple[float, float]], labels: list[str],
     """
     pts = np.asarray(points, dtype=float)
     n = len(pts)
+    on_surface = np.array(labels) == SURFACE
+    start, d = pts, np.roll(pts, -1, axis=0) - pts          # edge j runs from j to j + 1
+    d2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
     inner = [i for i in range(n) if labels[i - 1] == labels[i] == SURFACE]
     for i in inner:
         edge = min(np.linalg.norm(pts[i] - pts[i - 1]), np.linalg.norm(pts[(i + 1) % n] - pts[i]))
-        for j in range(n):
-            if labels[j] != SURFACE or i in (j, (j + 1) % n) or (i - 1) % n == j:
-                continue
-            a, b = pts[j], pts[(j + 1) % n]
-            d = b - a
-            s = float(np.clip(np.dot(pts[i] - a, d) / max(np.dot(d, d), 1e-300), 0, 1))
-            if np.linalg.norm(pts[i] - (a + s * d)) >= gap * edge:
-                continue
+        s = np.clip(np.einsum("ij,ij->i", pts[i] - start, d) / d2, 0, 1)
+        close = on_surface & (np.linalg.norm(pts[i] - (start + s[:, None] * d), axis=1)
+                              < gap * edge)
+        close[[i, (i - 1) % n]] = False                # the edges at i itself
+        for j in np.flatnonzero(close):
             forward = (j - i) % n        # vertices i+1..j lie between i and the edge
             backward = (i - j - 1) % n   # vertices j+1..i-1 lie between the edge and i
             if forward <= backward:
