@@ -6,6 +6,9 @@ Run: python benchmarks/rheologies.py [--shapes trapezoid rectangle] [--rerun]
          [--out benchmarks/results/rheologies]
      python benchmarks/rheologies.py --shapes trapezoid-erodible --laws drucker-prager mu-i
          --out benchmarks/results/rheologies_erodible
+     python benchmarks/rheologies.py --laws drucker-prager augmented-lagrangian
+         --set boundary.channel_width=0.1 --set boundary.side_wall_friction_deg=10.2
+         --out benchmarks/results/rheologies_side_walls   (both methods in a 10 cm channel)
 
 The erodible shape is `trapezoid-erodible` with its own steps (adaptive dt, deposition and
 surface-tension limits), to rest, not the fixed-dt set-up of the rigid beds.
@@ -77,11 +80,12 @@ def distances(a: dict[float, np.ndarray], b: dict[float, np.ndarray]) -> dict[st
             for t in a if t in b}
 
 
-def run_case(shape: str, law: str, out: Path, rerun: bool) -> dict:
+def run_case(shape: str, law: str, out: Path, rerun: bool,
+             extra: list[str] | None = None) -> dict:
     run = out / "runs" / f"{shape}-{law}"
     try:
         setup = SETUP_ERODIBLE if shape.endswith("erodible") else SETUP
-        config = load_config(SCENARIO[shape], [*setup, *LAWS[law]])
+        config = load_config(SCENARIO[shape], [*setup, *LAWS[law], *(extra or [])])
     except ConfigError as err:
         return {"status": "refused", "message": str(err)}
     if rerun or not (run / "summary.json").exists():
@@ -98,11 +102,14 @@ def main() -> None:
     parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=list(LAWS))
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/rheologies"))
     parser.add_argument("--rerun", action="store_true")
+    parser.add_argument("--set", dest="extra", action="append", default=[],
+                        help="key=value for every run (e.g. a channel's side walls)")
     args = parser.parse_args()
     rows = []
     for shape in args.shapes:
         for law in args.laws:
-            row = {"shape": shape, "law": law, **run_case(shape, law, args.out, args.rerun)}
+            row = {"shape": shape, "law": law,
+                   **run_case(shape, law, args.out, args.rerun, args.extra)}
             if law != "drucker-prager" and row["status"] != "refused":
                 ref, run = args.out / "runs" / f"{shape}-drucker-prager", \
                     args.out / "runs" / f"{shape}-{law}"
