@@ -157,7 +157,10 @@ class AugmentedLagrangian:
         change, moved, refreshed = math.inf, 1.0, False
         for k in range(1, max_iterations + 1):
             norm_old = max(l2(x), floor)
-            self.system.prepare()               # the right-hand side reads d and lambda
+            if k == 1:
+                self.system.prepare()
+            else:
+                self.system.assemble_rhs()      # the right-hand side reads d and lambda
             self.system.iterate(self._trial)
             self._delta.data = self._trial - x
             x.data = self._trial

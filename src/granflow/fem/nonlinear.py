@@ -76,6 +76,10 @@ class FixedPointSystem:
         if self.constant is not None:
             self.constant.Assemble()
 
+    def assemble_rhs(self) -> None:
+        """Reassemble f alone (ALG2 changes it at every iteration, A_0 stays)."""
+        self.f.Assemble()
+
     def assemble(self) -> ngs.BaseMatrix:
         """A(x^k) = A_k + A_0 into ``a.mat`` (A_0 as ``prepare`` left it)."""
         self.a.Assemble()
