@@ -1,0 +1,87 @@
+"""Benchmark (issue 14): the boundary checks of a move on long erodible layers.
+
+Run: python benchmarks/fold_checks.py [--out benchmarks/results/fold_checks]
+
+`segments_intersect` (is the boundary polygon still simple after a move?) runs at every
+attempted step. Session 8 tested all n^2 / 2 pairs of segments; on the 22-deg rectangle
+over its 3.2 m layer (2,500 boundary segments) that was 45 % of the run's time (py-spy).
+Session 9 prunes the pairs with a k-d tree. This script times both on the initial meshes
+of the default erodible trapezoid and of the 22-deg rectangle over the layer (the
+configuration of benchmarks/slopes.py), checks that they agree, and writes
+OUT/fold_checks.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from granflow.ale.free_surface import BoundaryChain, segments_intersect
+from granflow.config import load_config
+from granflow.io.run_dir import atomic_write_text
+from granflow.scenarios.column import build_column
+
+SLOPES = ["boundary.normal_load=reaction", "geometry.slope_deg=22.0",
+          "geometry.erodible_thickness=0.005", "numerics.mesh_velocity=elastic",
+          "surface_tension.enabled=true", "mesh.layer_cells=2", "geometry.height=0.145",
+          "geometry.bed_length=3.2199018856466766"]
+CASES = {"trapezoid-erodible": ("trapezoid-erodible", []),
+         "rectangle-erodible-22": ("rectangle-rigid", SLOPES)}
+
+
+def pairwise(xy: np.ndarray, segments: np.ndarray) -> bool:
+    """Session 8's test: every pair of non-adjacent segments."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    d = q - p
+    i, j = np.triu_indices(len(segments), k=1)
+    share = np.any(segments[i][:, :, None] == segments[j][:, None, :], axis=(1, 2))
+    i, j = i[~share], j[~share]
+
+    def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+    r = cross(d[i], p[j] - p[i]), cross(d[i], q[j] - p[i])
+    s = cross(d[j], p[i] - p[j]), cross(d[j], q[i] - p[j])
+    return bool(np.any((r[0] * r[1] < 0) & (s[0] * s[1] < 0)))
+
+
+def timed(check, xy: np.ndarray, segments: np.ndarray, repeat: int = 5) -> tuple[bool, float]:
+    times, answer = [], False
+    for _ in range(repeat):
+        start = time.perf_counter()
+        answer = check(xy, segments)
+        times.append(time.perf_counter() - start)
+    return answer, statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/fold_checks"))
+    args = parser.parse_args()
+    results = {}
+    for name, (scenario, overrides) in CASES.items():
+        mesh = build_column(load_config(scenario, overrides)).mesh
+        xy, segments = mesh.ngmesh.Coordinates().copy(), BoundaryChain(mesh).segments
+        folded = xy.copy()             # the column's highest node pushed through the bed
+        folded[np.argmax(xy[:, 1]), 1] = -0.05
+        row = {"triangles": mesh.ne, "boundary_segments": len(segments)}
+        for label, polygon in (("as_meshed", xy), ("folded", folded)):
+            old, t_old = timed(pairwise, polygon, segments)
+            new, t_new = timed(segments_intersect, polygon, segments)
+            if old != new:
+                raise SystemExit(f"{name} {label}: the two tests disagree ({old} vs {new})")
+            row[label] = {"intersects": new, "pairwise_s": t_old, "pruned_s": t_new,
+                          "ratio": t_old / t_new}
+        results[name] = row
+        print(name, json.dumps(row), flush=True)
+    args.out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(args.out / "fold_checks.json", json.dumps(results, indent=2))
+
+
+if __name__ == "__main__":
+    main()
