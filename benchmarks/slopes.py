@@ -89,7 +89,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     store = args.out / "slopes.json"
-    results = json.loads(store.read_text()) if store.exists() else {}
+    results = json.loads(store.read_text()) if store.exists() else {}   # rigid runouts
     for shape in args.shapes:
         for bed in args.beds:
             for slope in args.slopes:
@@ -99,8 +99,8 @@ def main() -> None:
                     summary = (json.loads(summary_file.read_text())
                                if summary_file.exists() else {"status": "running"})
                     if summary["status"] != "running":     # (a live run is not collected)
-                        results[name] = {k: summary.get(k) for k in KEYS} | {
-                            "shape": shape, "bed": bed, "slope": slope}
+                        results = _store(args.out, name, {k: summary.get(k) for k in KEYS}
+                                         | {"shape": shape, "bed": bed, "slope": slope})
                     continue
                 rigid = results.get(f"{shape}-rigid-{slope:g}", {}).get("runout_m")
                 config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope, rigid),
@@ -108,14 +108,22 @@ def main() -> None:
                 run_dir = RunDir.create(args.out / "runs" / name, force=True)
                 run_dir.write_text("config.toml", config_to_toml(config))
                 summary = run_simulation(config, run_dir, progress=False)
-                results[name] = {k: summary.get(k) for k in KEYS} | {
-                    "shape": shape, "bed": bed, "slope": slope}
+                results = _store(args.out, name, {k: summary.get(k) for k in KEYS} | {
+                    "shape": shape, "bed": bed, "slope": slope})
                 print(name, json.dumps(results[name]), flush=True)
-                atomic_write_text(store, json.dumps(results, indent=2))
-                atomic_write_text(args.out / "slopes.md", table(results))
-    atomic_write_text(store, json.dumps(results, indent=2))
-    atomic_write_text(args.out / "slopes.md", table(results))
     print(table(results))
+
+
+def _store(out: Path, name: str, row: dict) -> dict[str, dict]:
+    """Write one run's row into OUT/slopes.json (and the table), re-reading the file first:
+    another invocation (a long run, a --collect) may have written rows since this one
+    started."""
+    store = out / "slopes.json"
+    results = json.loads(store.read_text()) if store.exists() else {}
+    results[name] = row
+    atomic_write_text(store, json.dumps(results, indent=2))
+    atomic_write_text(out / "slopes.md", table(results))
+    return results
 
 
 if __name__ == "__main__":
