@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.ale.free_surface import BoundaryChain, segments_intersect
+from granflow.ale.free_surface import BoundaryChain, pairs_cross, segments_intersect
 from granflow.config import load_config
 from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.column import build_column
@@ -35,19 +35,9 @@ CASES = {"trapezoid-erodible": ("trapezoid-erodible", []),
 
 
 def pairwise(xy: np.ndarray, segments: np.ndarray) -> bool:
-    """Session 8's test: every pair of non-adjacent segments."""
-    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
-    d = q - p
+    """Session 8's test: the same predicate on every pair of segments."""
     i, j = np.triu_indices(len(segments), k=1)
-    share = np.any(segments[i][:, :, None] == segments[j][:, None, :], axis=(1, 2))
-    i, j = i[~share], j[~share]
-
-    def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-
-    r = cross(d[i], p[j] - p[i]), cross(d[i], q[j] - p[i])
-    s = cross(d[j], p[i] - p[j]), cross(d[j], q[i] - p[j])
-    return bool(np.any((r[0] * r[1] < 0) & (s[0] * s[1] < 0)))
+    return pairs_cross(xy, segments, i, j)
 
 
 def timed(check, xy: np.ndarray, segments: np.ndarray, repeat: int = 5) -> tuple[bool, float]:

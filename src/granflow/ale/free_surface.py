@@ -100,6 +100,14 @@ def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
     if not pairs:
         return False
     i, j = np.concatenate(pairs).T
+    return pairs_cross(xy, segments, i, j)
+
+
+def pairs_cross(xy: np.ndarray, segments: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
+    """True if, among the segment pairs (i[k], j[k]), two that share no vertex cross
+    properly (each one's end points strictly on both sides of the other's line)."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    d = q - p
     share = np.any(segments[i][:, :, None] == segments[j][:, None, :], axis=(1, 2))
     i, j = i[~share], j[~share]
 

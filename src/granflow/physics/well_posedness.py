@@ -39,11 +39,16 @@ def ill_posedness(law: MuI, inertial_number: Any) -> Any:
     return 4.0 * nu**2 - 4.0 * nu + mu**2 * (1.0 - nu / 2.0) ** 2
 
 
+def _scan(law: MuI, samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """C on ``samples`` log-spaced inertial numbers over I_RANGE."""
+    grid = np.logspace(np.log10(I_RANGE[0]), np.log10(I_RANGE[1]), samples)
+    return grid, ill_posedness(law, grid)
+
+
 def well_posed_window(law: MuI, samples: int = 4001) -> tuple[float, float] | None:
     """(I_N1, I_N2) where C < 0, each bound to a relative 1e-10; None if C >= 0 for every I
     in I_RANGE (ill posed everywhere)."""
-    grid = np.logspace(np.log10(I_RANGE[0]), np.log10(I_RANGE[1]), samples)
-    values = ill_posedness(law, grid)
+    grid, values = _scan(law, samples)
     negative = np.flatnonzero(values < 0)
     if len(negative) == 0:
         return None
@@ -60,7 +65,6 @@ def well_posed_window(law: MuI, samples: int = 4001) -> tuple[float, float] | No
 
 def smallest_ill_posedness(law: MuI, samples: int = 4001) -> tuple[float, float]:
     """(min C, the I where it is reached) over I_RANGE: how far the law is from a window."""
-    grid = np.logspace(np.log10(I_RANGE[0]), np.log10(I_RANGE[1]), samples)
-    values = ill_posedness(law, grid)
+    grid, values = _scan(law, samples)
     k = int(np.argmin(values))
     return float(values[k]), float(grid[k])
