@@ -167,7 +167,7 @@ class Numerics(_Section):
     tol: Fraction  # stopping tolerance of the fixed-point iteration (3.2)
     tol_init: Fraction | None  # start tolerance of the ramp; None = tol
     max_iterations: Annotated[int, Field(ge=1, le=10**5)]
-    linearization: Literal["picard", "newton", "hybrid"]
+    linearization: Literal["picard", "newton", "hybrid", "primal-dual"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
     mesh_penalty: Penalty
     velocity_floor: Annotated[float, Field(ge=0, le=1e3)]  # m/s, floor of ||u|| in (3.2)

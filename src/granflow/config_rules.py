@@ -159,7 +159,7 @@ def inert_keys(c: Config) -> dict[str, str]:
     else:
         add("numerics.eps numerics.linearization",
             "numerics.method = 'augmented-lagrangian' (no regularisation, its own iteration)")
-    if (c.numerics.linearization != "picard" and c.numerics.method == "regularized"
+    if (c.numerics.linearization in ("newton", "hybrid") and c.numerics.method == "regularized"
             and c.numerics.initial_guess != "auto"):
         add("numerics.initial_guess", "Newton and the hybrid start from the extrapolated "
             "state unless it is 'auto'")

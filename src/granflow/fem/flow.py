@@ -28,6 +28,7 @@ from granflow.fem.nonlinear import (
     NonlinearSolver,
     ResidualSystem,
 )
+from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
 
@@ -82,12 +83,18 @@ class FlowSolver:
             stress=stress)
         freedofs = self.space.FreeDofs()
         forms = fixed_point_forms(self.space, self.terms, self.solution)
+        dual = correction = None
+        if linearization == "primal-dual" and augmentation is None:
+            if not isinstance(rheology, DruckerPrager):
+                raise ValueError("the primal-dual iteration needs the Drucker-Prager law")
+            dual = DualVariable(mesh, rheology, self.solution)
+            correction = dual.forms(self.space)
         picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
-                                  constant=forms.constant)
+                                  constant=forms.constant, correction=correction)
         self.nonlinear = NonlinearSolver(
             picard=picard,
             newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),
-            state=self.solution)
+            state=self.solution, dual=dual)
         self.augmented = (None if augmentation is None else AugmentedLagrangian(
             rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
 
@@ -119,7 +126,7 @@ class FlowSolver:
             self.solution.vec.data = self.previous.vec
         if self.augmented is not None:
             return self.augmented.solve(tol, max_iterations, velocity_floor)
-        if self.linearization == "picard":
+        if self.linearization in ("picard", "primal-dual"):
             return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
         if self.linearization == "newton":
             return self.nonlinear.solve_newton(tol, max_iterations, velocity_floor)
@@ -138,7 +145,7 @@ class FlowSolver:
         """
         if self.initial_guess == "auto":
             return self.extrapolation_won
-        return self.initial_guess == "extrapolated" or (self.linearization != "picard"
+        return self.initial_guess == "extrapolated" or (self.linearization in ("newton", "hybrid")
                                                         and self.augmented is None)
 
     def predict(self, dt: float, out: ngs.GridFunction) -> None:

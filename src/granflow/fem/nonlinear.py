@@ -16,6 +16,7 @@ from enum import Enum
 import ngsolve as ngs
 
 from granflow.fem.linalg import ReusableLU
+from granflow.fem.primal_dual import DualVariable
 
 NEWTON_MIN_DAMPING = 1.0 / 64   # below this damping factor Newton has stalled
 PICARD_FALLBACK_ITERATIONS = 4  # fixed-point iterations run when Newton stalls
@@ -66,9 +67,11 @@ class FixedPointSystem:
     """
 
     def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray,
-                 solver: str = "umfpack", constant: ngs.BilinearForm | None = None) -> None:
-        self.a, self.f, self.constant = a, f, constant
+                 solver: str = "umfpack", constant: ngs.BilinearForm | None = None,
+                 correction: tuple[ngs.BilinearForm, ngs.LinearForm] | None = None) -> None:
+        self.a, self.f, self.constant, self.correction = a, f, constant, correction
         self.lu = ReusableLU(a, freedofs, solver)
+        self._rhs = f.vec.CreateVector()
 
     def prepare(self) -> None:
         """Assemble what stays fixed during one step's iterations."""
@@ -80,22 +83,34 @@ class FixedPointSystem:
         """Reassemble f alone (ALG2 changes it at every iteration, A_0 stays)."""
         self.f.Assemble()
 
-    def assemble(self) -> ngs.BaseMatrix:
-        """A(x^k) = A_k + A_0 into ``a.mat`` (A_0 as ``prepare`` left it)."""
+    def assemble(self, corrected: bool = False) -> ngs.BaseMatrix:
+        """A(x^k) = A_k + A_0 into ``a.mat`` (A_0 as ``prepare`` left it), plus the
+        primal-dual correction if ``corrected``."""
         self.a.Assemble()
-        if self.constant is not None:
-            total, part = self.a.mat.AsVector(), self.constant.mat.AsVector()
+        parts = [] if self.constant is None else [self.constant]
+        if corrected and self.correction is not None:
+            self.correction[0].Assemble()
+            parts.append(self.correction[0])
+        total = self.a.mat.AsVector()
+        for form in parts:
+            part = form.mat.AsVector()
             if len(total) != len(part):
-                raise RuntimeError("the step-constant and iterate parts of (3.2) have "
-                                   "different sparsity patterns")
+                raise RuntimeError("the parts of the matrix of (3.2) have different "
+                                   "sparsity patterns")
             total.data += part
         return self.a.mat
 
-    def iterate(self, out: ngs.BaseVector) -> None:
-        """x^{k+1} = A(x^k)^-1 f; A reads x^k from the iterate it was built on."""
-        self.assemble()
+    def iterate(self, out: ngs.BaseVector, corrected: bool = False) -> None:
+        """x^{k+1} = A(x^k)^-1 f; A reads x^k from the iterate it was built on. With
+        ``corrected``, the primal-dual correction's matrix and right-hand side join."""
+        self.assemble(corrected)
         self.lu.update()
-        self.lu.solve(self.f.vec, out)
+        if not (corrected and self.correction is not None):
+            self.lu.solve(self.f.vec, out)
+            return
+        self.correction[1].Assemble()
+        self._rhs.data = self.f.vec + self.correction[1].vec
+        self.lu.solve(self._rhs, out)
 
     def reset(self) -> None:
         self.lu.reset()
@@ -123,6 +138,8 @@ class ResidualSystem:
         self.lu.reset()
 
 
+PRIMAL_DUAL_AFTER = 2    # fixed-point iterations before the dual correction may switch on
+PRIMAL_DUAL_GROWTHS = 2  # growing changes in a row that switch it off
 HYBRID_PICARD_ITERATIONS = 3  # fixed-point iterations before the hybrid judges their pace
 HYBRID_PATIENCE = 4           # more predicted fixed-point iterations than this: Newton
 
@@ -149,8 +166,9 @@ class NonlinearSolver:
     """Picard (3.2) and damped Newton on ``state`` (the iterate, overwritten in place)."""
 
     def __init__(self, picard: FixedPointSystem, newton: ResidualSystem,
-                 state: ngs.GridFunction) -> None:
+                 state: ngs.GridFunction, dual: DualVariable | None = None) -> None:
         self.picard_system, self.newton_system, self.state = picard, newton, state
+        self.dual = dual
         space = state.space
         (u, _), (v, _) = space.TnT()
         self._mass = ngs.BilinearForm(space)
@@ -196,6 +214,8 @@ class NonlinearSolver:
         self._mass.Assemble()
         self.picard_system.prepare()
         count = _Counter()
+        if self.dual is not None:
+            self.dual.prepare()
         change = self._picard(tol, max_iterations, self._reference(velocity_floor), count)
         return count.report(change < tol, change, not math.isnan(change))
 
@@ -204,15 +224,22 @@ class NonlinearSolver:
         """Up to ``iterations`` fixed-point iterations; the last relative change.
 
         With ``give_up_after`` > 0, stop early once that many iterations are done and the
-        observed contraction predicts more than HYBRID_PATIENCE further ones.
+        observed contraction predicts more than HYBRID_PATIENCE further ones. With a dual
+        variable (``primal-dual``), the correction of ``fem/primal_dual.py`` switches on
+        from iteration PRIMAL_DUAL_AFTER whenever the plain iteration contracts slowly, and
+        off after PRIMAL_DUAL_GROWTHS growing changes in a row (it restarts from lambda = 0
+        when next switched on).
         """
-        x, system = self.state.vec, self.picard_system
+        x, system, dual = self.state.vec, self.picard_system, self.dual
         change = previous = math.inf
+        corrected, growths = False, 0
         for k in range(1, iterations + 1):
             norm_old = max(self._l2(x), floor)
-            system.iterate(self._trial)
+            system.iterate(self._trial, corrected)
             count.picard += 1
             count.solves += 1
+            if corrected:
+                dual.update(self._trial)
             self._delta.data = self._trial - x
             x.data = self._trial
             previous, change = change, self._relative(self._l2(self._delta), norm_old)
@@ -220,6 +247,15 @@ class NonlinearSolver:
                 break
             if give_up_after and k >= give_up_after and _slow(change, previous, tol):
                 break
+            if dual is None:
+                continue
+            if corrected:
+                growths = growths + 1 if change > previous else 0
+                if growths >= PRIMAL_DUAL_GROWTHS:
+                    corrected = False
+            elif k >= PRIMAL_DUAL_AFTER and _slow(change, previous, tol):
+                corrected, growths = True, 0
+                dual.start()
         return change
 
     # --- hybrid ---------------------------------------------------------------------------
