@@ -193,7 +193,7 @@ def test_config_is_frozen() -> None:
     ("numerics.max_iterations=2.5", "numerics.max_iterations = 2.5: must be an integer in [1, 1"),
     ("mesh.cells_x=1", "mesh.cells_x = 1: must be an integer in [2, 100000] or none"),
     ("output.progress=yes", "output.progress = 'yes': must be true or false"),
-    ("numerics.linearization=secant", "must be one of 'picard', 'newton', 'hybrid'"),
+    ("numerics.linearization=secant", "must be one of 'picard', 'newton', 'hybrid', 'primal-d"),
     ("surface_tension.gamma0=-1", "surface_tension.gamma0 = -1: must be 'auto' or a number in [0"),
     ("time.output_times=0.2", "time.output_times = 0.2: must be a list of numbers"),
     ("numerics.eps=nan", "numerics.eps = nan: must be a number in (0, 1000]"),
