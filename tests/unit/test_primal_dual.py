@@ -29,15 +29,17 @@ def solver() -> FlowSolver:
     return s
 
 
-def test_strain_operator_matches_the_strain_rate_at_the_quadrature_points(
+def test_point_operators_match_the_strain_rate_and_pressure_at_the_quadrature_points(
         solver: FlowSolver) -> None:
     dual = solver.nonlinear.dual
     dual.prepare()
     du = ngs.Sym(ngs.Grad(solver.solution.components[0]))
     points = solver.mesh.MapToAllElements(dual.space.GetIntegrationRules()[ngs.TRIG], ngs.VOL)
     expected = ngs.CF((du[0, 0], du[0, 1], du[1, 1]))(points)
-    got = dual._strain(solver.solution.vec)
+    got, pressure = dual._at_points(solver.solution.vec)
     assert np.abs(got - expected).max() < 1e-10 * np.abs(expected).max()
+    p = solver.solution.components[1](points).ravel()
+    assert np.abs(pressure - p).max() < 1e-10 * np.abs(p).max()
 
 
 def test_correction_vanishes_at_the_exact_dual_so_the_fixed_point_is_that_of_3_2(
@@ -48,7 +50,8 @@ def test_correction_vanishes_at_the_exact_dual_so_the_fixed_point_is_that_of_3_2
     dual.prepare()
     dual.start()
     du = dual._du_k
-    dual._set(du / np.sqrt((du**2) @ np.array([1.0, 2.0, 1.0]) + dual.eps**2)[:, None])
+    dual.lam.set(du / np.sqrt((du**2) @ np.array([1.0, 2.0, 1.0]) + 1e-2**2)[:, None])
+    dual._coefficients()
     matrix, rhs = solver.nonlinear.picard_system.correction
     matrix.Assemble()
     rhs.Assemble()
@@ -58,7 +61,8 @@ def test_correction_vanishes_at_the_exact_dual_so_the_fixed_point_is_that_of_3_2
     assert scale > 0
     assert np.abs(applied.FV().NumPy() - rhs.vec.FV().NumPy()).max() < 1e-10 * scale
     # and it does not vanish for another lambda (the check can fail)
-    dual._set(np.zeros_like(du) + 0.3)
+    dual.lam.set(np.zeros_like(du) + 0.3)
+    dual._coefficients()
     matrix.Assemble()
     rhs.Assemble()
     applied.data = matrix.mat * solver.solution.vec

@@ -30,7 +30,6 @@ import ngsolve as ngs
 import numpy as np
 from ngsolve.comp import IntegrationRuleSpace
 
-from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.forms import strain_rate
 from granflow.physics import DruckerPrager
 
@@ -38,55 +37,71 @@ COMPONENTS = ((0, 0), (0, 1), (1, 1))   # a symmetric 2x2 tensor stored as xx, x
 WEIGHTS = np.array([1.0, 2.0, 1.0])      # Frobenius A : B of two tensors so stored
 
 
+class PointTensor:
+    """A symmetric 2x2 tensor field given by its values at the quadrature points: three
+    scalar fields of an IntegrationRuleSpace (xx, xy, yy; a vector-valued one did not
+    interpolate pointwise in NGSolve 6.2.2608)."""
+
+    def __init__(self, space: ngs.FESpace) -> None:
+        self.parts = [ngs.GridFunction(space) for _ in range(3)]
+        a, b, c = self.parts
+        self.cf = ngs.CF((a, b, b, c), dims=(2, 2))
+
+    def get(self) -> np.ndarray:
+        return np.column_stack([part.vec.FV().NumPy() for part in self.parts])
+
+    def set(self, values: np.ndarray) -> None:
+        for k, part in enumerate(self.parts):
+            part.vec.FV().NumPy()[:] = values[:, k]
+
+
 class DualVariable:
-    """lambda at the quadrature points, the correction it adds to (3.2), and its update."""
+    """lambda at the quadrature points, the correction it adds to (3.2), and its update.
+
+    The correction's coefficients are kept as point fields computed with numpy,
+    alpha = -kappa_k Du_k / r_k^2 and gamma = (alpha : Du_k) lambda, so that assembling it
+    costs lookups rather than the law: matrix sym[(alpha : Du)(lambda : Dv)], right-hand
+    side gamma : Dv.
+    """
 
     def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager,
                  iterate: ngs.GridFunction) -> None:
         self.space = IntegrationRuleSpace(mesh, order=1)   # the 3 edge midpoints
         self.dx = ngs.dx(intrules=self.space.GetIntegrationRules())
-        self.eps = rheology.eps
-        self.iterate = iterate
-        # xx, xy, yy as scalar fields (a vector-valued IntegrationRuleSpace did not
-        # interpolate pointwise in NGSolve 6.2.2608)
-        self.parts = [ngs.GridFunction(self.space) for _ in range(3)]
-        a, b, c = self.parts
-        self.lam = ngs.CF((a, b, b, c), dims=(2, 2))
-        u_k, p_k = iterate.components
-        self.du_k = strain_rate(u_k)
-        self.r_sq = ngs.InnerProduct(self.du_k, self.du_k) + rheology.eps**2
-        self.kappa = rheology.yield_stress(p_k, NGSOLVE_OPS)
-        # Du at the quadrature points as a matrix on the (u, p) vector: the form
-        # sum_e w |J| Du w_i divided by each point's weight w |J| (reassembled each step:
-        # the mesh moves)
-        (u, _), test = iterate.space.TrialFunction(), self.space.TestFunction()
-        self._strain_forms = []
-        for i, j in COMPONENTS:
+        self.rheology, self.iterate = rheology, iterate
+        self.lam, self.alpha, self.gamma = (PointTensor(self.space) for _ in range(3))
+        # Du and p at the quadrature points as matrices on the (u, p) vector: the forms
+        # sum_e w |J| Du w_i (and p w_i) divided by each point's weight w |J|
+        # (reassembled each step: the mesh moves)
+        (u, p), test = iterate.space.TrialFunction(), self.space.TestFunction()
+        self._point_forms = []
+        for value in [strain_rate(u)[i, j] for i, j in COMPONENTS] + [p]:
             form = ngs.BilinearForm(trialspace=iterate.space, testspace=self.space)
-            form += strain_rate(u)[i, j] * test * self.dx
-            self._strain_forms.append(form)
+            form += value * test * self.dx
+            self._point_forms.append(form)
         self._weights = ngs.LinearForm(self.space)
         self._weights += test * self.dx
         self._tmp = self._weights.vec.CreateVector()
         self._w = np.ones(len(self._tmp))
         self._du_k = np.zeros((len(self._tmp), 3))
+        self._p_k = np.zeros(len(self._tmp))
 
     def forms(self, space: ngs.FESpace) -> tuple[ngs.BilinearForm, ngs.LinearForm]:
         """The correction's matrix and right-hand side (module docstring), at the iterate."""
         (u, _), (v, _) = space.TnT()
         du, dv = strain_rate(u), strain_rate(v)
-        coupling = 0.5 * (ngs.InnerProduct(self.du_k, du) * ngs.InnerProduct(self.lam, dv)
-                          + ngs.InnerProduct(self.lam, du) * ngs.InnerProduct(self.du_k, dv))
+        alpha, lam = self.alpha.cf, self.lam.cf
         matrix = ngs.BilinearForm(space)
-        matrix += -self.kappa / self.r_sq * coupling * self.dx
+        integrand = 0.5 * (ngs.InnerProduct(alpha, du) * ngs.InnerProduct(lam, dv)
+                           + ngs.InnerProduct(lam, du) * ngs.InnerProduct(alpha, dv))
+        matrix += integrand.Compile() * self.dx      # ~20 % faster assembly, same matrix
         rhs = ngs.LinearForm(space)
-        rhs += (-self.kappa / self.r_sq * ngs.InnerProduct(self.du_k, self.du_k)
-                * ngs.InnerProduct(self.lam, dv) * self.dx)
+        rhs += ngs.InnerProduct(self.gamma.cf, dv) * self.dx
         return matrix, rhs
 
     def prepare(self) -> None:
-        """Start of a step, on the moved mesh: the strain-rate operator."""
-        for form in self._strain_forms:
+        """Start of a step, on the moved mesh: the point operators."""
+        for form in self._point_forms:
             form.Assemble()
         self._weights.Assemble()
         self._w = self._weights.vec.FV().NumPy().copy()
@@ -94,29 +109,34 @@ class DualVariable:
     def start(self) -> None:
         """Switch the correction on at the current iterate with lambda = 0: its first
         iteration is the plain fixed point, which gives the first dual estimate."""
-        self._du_k = self._strain(self.iterate.vec)
-        self._set(np.zeros_like(self._du_k))
+        self._du_k, self._p_k = self._at_points(self.iterate.vec)
+        self.lam.set(np.zeros_like(self._du_k))
+        self._coefficients()
 
     def update(self, solution: ngs.BaseVector) -> None:
         """lambda_{k+1} from u_k (the iterate) and u_{k+1} (``solution``), projected
-        onto |lambda| <= 1."""
-        du_next = self._strain(solution)
-        r_sq = (self._du_k**2) @ WEIGHTS + self.eps**2
-        lam = np.column_stack([part.vec.FV().NumPy() for part in self.parts])
+        onto |lambda| <= 1; ``solution`` becomes the iterate."""
+        du_next, p_next = self._at_points(solution)
+        r_sq = (self._du_k**2) @ WEIGHTS + self.rheology.eps**2
         change = ((du_next - self._du_k) * self._du_k) @ WEIGHTS
-        new = du_next / np.sqrt(r_sq)[:, None] - lam * (change / r_sq)[:, None]
+        new = du_next / np.sqrt(r_sq)[:, None] - self.lam.get() * (change / r_sq)[:, None]
         new /= np.maximum(np.sqrt((new**2) @ WEIGHTS), 1.0)[:, None]
-        self._set(new)
-        self._du_k = du_next
+        self.lam.set(new)
+        self._du_k, self._p_k = du_next, p_next
+        self._coefficients()
 
-    def _strain(self, vec: ngs.BaseVector) -> np.ndarray:
-        """(xx, xy, yy) of Du at the quadrature points, from a (u, p) vector."""
-        out = np.empty((len(self._tmp), 3))
-        for k, form in enumerate(self._strain_forms):
+    def _coefficients(self) -> None:
+        """alpha and gamma at the iterate (u_k, p_k) and lambda_k."""
+        r_sq = (self._du_k**2) @ WEIGHTS + self.rheology.eps**2
+        alpha = -(self.rheology.yield_stress(self._p_k) / r_sq)[:, None] * self._du_k
+        self.alpha.set(alpha)
+        self.gamma.set(((alpha * self._du_k) @ WEIGHTS)[:, None] * self.lam.get())
+
+    def _at_points(self, vec: ngs.BaseVector) -> tuple[np.ndarray, np.ndarray]:
+        """(xx, xy, yy) of Du and p at the quadrature points, from a (u, p) vector."""
+        out = np.empty((len(self._tmp), 4))
+        for k, form in enumerate(self._point_forms):
             self._tmp.data = form.mat * vec
             out[:, k] = self._tmp.FV().NumPy()
-        return out / self._w[:, None]
-
-    def _set(self, lam: np.ndarray) -> None:
-        for k, part in enumerate(self.parts):
-            part.vec.FV().NumPy()[:] = lam[:, k]
+        out /= self._w[:, None]
+        return out[:, :3], out[:, 3]
