@@ -139,7 +139,7 @@ class ResidualSystem:
 
 
 PRIMAL_DUAL_AFTER = 2    # fixed-point iterations before the dual correction may switch on
-PRIMAL_DUAL_GROWTHS = 2  # growing changes in a row that switch it off
+PRIMAL_DUAL_ROUND = 8    # corrected iterations judged together (undone if no gain)
 HYBRID_PICARD_ITERATIONS = 3  # fixed-point iterations before the hybrid judges their pace
 HYBRID_PATIENCE = 4           # more predicted fixed-point iterations than this: Newton
 
@@ -169,6 +169,7 @@ class NonlinearSolver:
                  state: ngs.GridFunction, dual: DualVariable | None = None) -> None:
         self.picard_system, self.newton_system, self.state = picard, newton, state
         self.dual = dual
+        self._saved = state.vec.CreateVector()
         space = state.space
         (u, _), (v, _) = space.TnT()
         self._mass = ngs.BilinearForm(space)
@@ -224,38 +225,56 @@ class NonlinearSolver:
         """Up to ``iterations`` fixed-point iterations; the last relative change.
 
         With ``give_up_after`` > 0, stop early once that many iterations are done and the
-        observed contraction predicts more than HYBRID_PATIENCE further ones. With a dual
-        variable (``primal-dual``), the correction of ``fem/primal_dual.py`` switches on
-        from iteration PRIMAL_DUAL_AFTER whenever the plain iteration contracts slowly, and
-        off after PRIMAL_DUAL_GROWTHS growing changes in a row (it restarts from lambda = 0
-        when next switched on).
+        observed contraction predicts more than HYBRID_PATIENCE further ones.
+
+        With a dual variable (``primal-dual``): from iteration PRIMAL_DUAL_AFTER on, when
+        the plain iteration contracts slowly, one plain iteration seeds lambda and the
+        corrected iterations of ``fem/primal_dual.py`` follow, in rounds of
+        PRIMAL_DUAL_ROUND. A round that ends with a larger change than it started from is
+        undone (the iterate it started from is restored) and the step goes on with plain
+        iterations. A corrected iterate that meets tol is followed by a plain one, which
+        decides convergence: an accepted state passes the fixed-point test of section 3.1
+        exactly as Picard's do.
         """
         x, system, dual = self.state.vec, self.picard_system, self.dual
         change = previous = math.inf
-        corrected, growths = False, 0
+        mode, banned, used, start_change = "plain", False, 0, math.inf
         for k in range(1, iterations + 1):
             norm_old = max(self._l2(x), floor)
+            corrected = mode == "corrected"
+            if mode == "seeding":
+                dual.start()
+                self._saved.data = x
+                used, start_change = 0, change
             system.iterate(self._trial, corrected)
             count.picard += 1
             count.solves += 1
-            if corrected:
+            if mode != "plain":
                 dual.update(self._trial)
             self._delta.data = self._trial - x
             x.data = self._trial
             previous, change = change, self._relative(self._l2(self._delta), norm_old)
+            if mode == "seeding":
+                mode = "corrected"
+            elif corrected:
+                used += 1
+                if change < tol:                # confirm with a plain iteration of (3.2)
+                    mode = "plain"
+                    continue
+                if used >= PRIMAL_DUAL_ROUND:
+                    if not change < start_change:   # the round did not pay: undo it
+                        x.data = self._saved
+                        change, mode, banned = start_change, "plain", True
+                        continue
+                    self._saved.data = x
+                    used, start_change = 0, change
             if math.isnan(change) or change < tol:
                 break
             if give_up_after and k >= give_up_after and _slow(change, previous, tol):
                 break
-            if dual is None:
-                continue
-            if corrected:
-                growths = growths + 1 if change > previous else 0
-                if growths >= PRIMAL_DUAL_GROWTHS:
-                    corrected = False
-            elif k >= PRIMAL_DUAL_AFTER and _slow(change, previous, tol):
-                corrected, growths = True, 0
-                dual.start()
+            if (dual is not None and mode == "plain" and not banned
+                    and k >= PRIMAL_DUAL_AFTER and _slow(change, previous, tol)):
+                mode = "seeding"
         return change
 
     # --- hybrid ---------------------------------------------------------------------------
