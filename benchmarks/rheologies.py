@@ -137,10 +137,11 @@ def write(out: Path, rows: list[dict]) -> None:
         by_law = {r["law"]: r for r in rows if r["shape"] == shape}
         dp, al = by_law.get("drucker-prager", {}), by_law.get("augmented-lagrangian", {})
         if dp.get("wall_time_s") and al.get("wall_time_s"):
+            paper = PAPER_AL_RATIO.get(shape)    # the paper ran no AL over the layer
             lines.append(f"- {shape}: augmented Lagrangian / regularised cost: wall "
                          f"{al['wall_time_s'] / dp['wall_time_s']:.2f}, linear solves "
                          f"{al['linear_solves'] / dp['linear_solves']:.2f} (paper: "
-                         f"{PAPER_AL_RATIO[shape]:g})")
+                         f"{'-' if paper is None else f'{paper:g}'})")
     lines += ["", "Distances from the Drucker-Prager run, mean/max (mm), at the paper's times:"]
     for r in rows:
         for key in ("free_surface_vs_dp_mm", "interface_vs_dp_mm"):
