@@ -244,8 +244,6 @@ class NonlinearSolver:
             corrected = mode == "corrected"
             if mode == "seeding":
                 dual.start()
-                self._saved.data = x
-                used, start_change = 0, change
             system.iterate(self._trial, corrected)
             count.picard += 1
             count.solves += 1
@@ -254,8 +252,9 @@ class NonlinearSolver:
             self._delta.data = self._trial - x
             x.data = self._trial
             previous, change = change, self._relative(self._l2(self._delta), norm_old)
-            if mode == "seeding":
-                mode = "corrected"
+            if mode == "seeding":               # a plain iterate: the round starts here
+                mode, used, start_change = "corrected", 0, change
+                self._saved.data = x
             elif corrected:
                 used += 1
                 if change < tol:                # confirm with a plain iteration of (3.2)
