@@ -8,17 +8,22 @@ r lambda - Du = 0 at (u_k, lambda_k) gives, pointwise,
 
     lambda_{k+1} = Du_{k+1} / r_k - lambda_k (Du_k : (Du_{k+1} - Du_k)) / r_k^2,
 
-and putting it into the momentum equation adds to the fixed-point matrix of (3.2)
+and putting it into the momentum equation, with kappa(p) linearised at p_k as well
+(kappa(p) lambda ~ kappa_k lambda_{k+1} + kappa'(p_k)(p - p_k) lambda_k, kappa' =
+sqrt(2) mu_s where p_k > 0), adds to the fixed-point matrix of (3.2)
 
-    - kappa_k / r_k^2 sym[(Du_k : Du)(lambda_k : Dv)]   (left)
-    - kappa_k / r_k^2 |Du_k|^2 (lambda_k : Dv)          (right-hand side).
+    - kappa_k / r_k^2 sym[(Du_k : Du)(lambda_k : Dv)] + kappa'(p_k) p (lambda_k : Dv)   (left)
+    - kappa_k / r_k^2 |Du_k|^2 (lambda_k : Dv) + kappa'(p_k) p_k (lambda_k : Dv)       (right).
 
-With lambda_k = Du_k / r_k this is Newton's tangent, nearly singular where |Du| ~ eps;
-with lambda_k carried as its own variable and projected onto |lambda| <= 1, the matrix
-stays positive and the iteration converges where the plain fixed point crawls (the rigid
-zones of a mass coming to rest). Symmetrising (Chan-Golub-Mulet) keeps the matrix's
-structure. At convergence lambda = Du / r and the discrete solution is the one of (3.2).
-kappa is taken at the iterate's pressure as in (3.2); the wall friction stays Picard.
+With lambda_k = Du_k / r_k the first term would be Newton's tangent, nearly singular where
+|Du| ~ eps; with lambda_k carried as its own variable and projected onto |lambda| <= 1 the
+matrix stays positive (symmetrising, after Chan-Golub-Mulet, keeps its structure). The
+pressure term matters at the yield limit, where the yield stress and the pressure are
+coupled: without it, the corrected iteration overshot and was undone on a creeping
+deposit; with it, it converged there in 87 iterations a step against 216 for (3.2)
+(README, issue 13). At convergence lambda = Du / r and both additions vanish against
+their right-hand sides: the discrete solution is the one of (3.2). The wall friction
+stays Picard.
 
 lambda lives at the quadrature points of the viscoplastic term (the three edge midpoints,
 ``VISCOPLASTIC_DX``) in an ``IntegrationRuleSpace``, so no projection enters.
@@ -59,8 +64,9 @@ class DualVariable:
     """lambda at the quadrature points, the correction it adds to (3.2), and its update.
 
     The correction's coefficients are kept as point fields computed with numpy,
-    alpha = -kappa_k Du_k / r_k^2 and gamma = (alpha : Du_k) lambda, so that assembling it
-    costs lookups rather than the law: matrix sym[(alpha : Du)(lambda : Dv)], right-hand
+    alpha = -kappa_k Du_k / r_k^2, beta = kappa'(p_k) lambda and
+    gamma = (alpha : Du_k + kappa'(p_k) p_k) lambda, so that assembling it costs lookups
+    rather than the law: matrix sym[(alpha : Du)(lambda : Dv)] + p beta : Dv, right-hand
     side gamma : Dv.
     """
 
@@ -70,6 +76,7 @@ class DualVariable:
         self.dx = ngs.dx(intrules=self.space.GetIntegrationRules())
         self.rheology, self.iterate = rheology, iterate
         self.lam, self.alpha, self.gamma = (PointTensor(self.space) for _ in range(3))
+        self.beta = PointTensor(self.space)   # kappa'(p_k) lambda_k: Newton in p
         # Du and p at the quadrature points as matrices on the (u, p) vector: the forms
         # sum_e w |J| Du w_i (and p w_i) divided by each point's weight w |J|
         # (reassembled each step: the mesh moves)
@@ -95,6 +102,8 @@ class DualVariable:
         integrand = 0.5 * (ngs.InnerProduct(alpha, du) * ngs.InnerProduct(lam, dv)
                            + ngs.InnerProduct(lam, du) * ngs.InnerProduct(alpha, dv))
         matrix += integrand.Compile() * self.dx      # ~20 % faster assembly, same matrix
+        (_, p), _ = space.TnT()
+        matrix += p * ngs.InnerProduct(self.beta.cf, dv) * self.dx
         rhs = ngs.LinearForm(space)
         rhs += ngs.InnerProduct(self.gamma.cf, dv) * self.dx
         return matrix, rhs
@@ -126,11 +135,14 @@ class DualVariable:
         self._coefficients()
 
     def _coefficients(self) -> None:
-        """alpha and gamma at the iterate (u_k, p_k) and lambda_k."""
+        """alpha, beta and gamma at the iterate (u_k, p_k) and lambda_k."""
         r_sq = (self._du_k**2) @ WEIGHTS + self.rheology.eps**2
         alpha = -(self.rheology.yield_stress(self._p_k) / r_sq)[:, None] * self._du_k
         self.alpha.set(alpha)
-        self.gamma.set(((alpha * self._du_k) @ WEIGHTS)[:, None] * self.lam.get())
+        lam = self.lam.get()
+        slope = np.where(self._p_k > 0, self.rheology.yield_stress(1.0), 0.0)  # kappa'(p_k)
+        self.beta.set(slope[:, None] * lam)
+        self.gamma.set(((alpha * self._du_k) @ WEIGHTS + slope * self._p_k)[:, None] * lam)
 
     def _at_points(self, vec: ngs.BaseVector) -> tuple[np.ndarray, np.ndarray]:
         """(xx, xy, yy) of Du and p at the quadrature points, from a (u, p) vector."""
