@@ -33,6 +33,7 @@ def test_point_operators_match_the_strain_rate_and_pressure_at_the_quadrature_po
         solver: FlowSolver) -> None:
     dual = solver.nonlinear.dual
     dual.prepare()
+    dual.start()                      # assembles the point operators of this step
     du = ngs.Sym(ngs.Grad(solver.solution.components[0]))
     points = solver.mesh.MapToAllElements(dual.space.GetIntegrationRules()[ngs.TRIG], ngs.VOL)
     expected = ngs.CF((du[0, 0], du[0, 1], du[1, 1]))(points)

@@ -12,11 +12,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 
 from granflow.fem.linalg import ReusableLU
-from granflow.fem.primal_dual import DualVariable
+
+if TYPE_CHECKING:
+    from granflow.fem.primal_dual import DualVariable
 
 NEWTON_MIN_DAMPING = 1.0 / 64   # below this damping factor Newton has stalled
 PICARD_FALLBACK_ITERATIONS = 4  # fixed-point iterations run when Newton stalls
