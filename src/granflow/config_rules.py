@@ -77,9 +77,6 @@ def _problems(c: Config) -> Iterator[str]:
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
                f"'drucker-prager' (not {mat.rheology!r})")
-    if c.numerics.linearization == "primal-dual" and mat.rheology != "drucker-prager":
-        yield (f"numerics.linearization = 'primal-dual' needs material.rheology = "
-               f"'drucker-prager' (not {mat.rheology!r}); use 'picard', 'newton' or 'hybrid'")
     if mat.rheology == "mu-i":
         if mat.mu_2_deg <= mat.friction_angle_deg:
             yield (f"material.mu_2_deg = {mat.mu_2_deg!r} must be greater than "

@@ -5,11 +5,11 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from granflow.config import ConfigError, load_config
+from granflow.config import load_config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
-from granflow.physics import CoulombFriction, DruckerPrager
+from granflow.physics import CoulombFriction, DruckerPrager, MuI
 from granflow.verify import run_cell
 
 
@@ -87,7 +87,13 @@ def test_plug_flow_same_solution_as_the_fixed_point_with_fewer_iterations() -> N
     assert iterations < 1000
 
 
-def test_primal_dual_needs_the_drucker_prager_law() -> None:
-    with pytest.raises(ConfigError, match="'primal-dual' needs material.rheology"):
-        load_config("trapezoid-rigid", ["numerics.linearization=primal-dual",
-                                        "material.rheology=mu-i"])
+def test_primal_dual_is_the_plain_iteration_for_a_law_without_a_correction() -> None:
+    """The column scenarios default to "primal-dual"; switching them to mu(I) must still
+    run (its correction is not built): the solver then has no dual variable, i.e. (3.2)."""
+    config = load_config("trapezoid-rigid", ["material.rheology=mu-i"])
+    assert config.numerics.linearization == "primal-dual"
+    mesh = polygon_mesh([(0, 0), (0.3, 0), (0.2, 0.2), (0, 0.2)],
+                        [BED, SURFACE, SURFACE, WALL], 0.06)
+    s = FlowSolver(mesh, rheology=MuI(1.0, 25.5, 36.0, 0.279, 1e-3, 2500.0, 1e-2),
+                   density=1550.0, body_force=(0.0, -9.81), linearization="primal-dual")
+    assert s.nonlinear.dual is None and s.nonlinear.picard_system.correction is None

@@ -84,9 +84,10 @@ class FlowSolver:
         freedofs = self.space.FreeDofs()
         forms = fixed_point_forms(self.space, self.terms, self.solution)
         dual = correction = None
-        if linearization == "primal-dual" and augmentation is None:
-            if not isinstance(rheology, DruckerPrager):
-                raise ValueError("the primal-dual iteration needs the Drucker-Prager law")
+        # the correction is built for the Drucker-Prager law; with another law (mu(I))
+        # "primal-dual" is the plain iteration (3.2) (docs/parameters.md)
+        if (linearization == "primal-dual" and augmentation is None
+                and isinstance(rheology, DruckerPrager)):
             dual = DualVariable(mesh, rheology, self.solution)
             correction = dual.forms(self.space)
         picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
