@@ -2,13 +2,15 @@
 to back in one invocation, on the same mesh.
 
 Run: python benchmarks/speed.py [--cases trapezoid rectangle plug-flow stall ...]
-         [--repeat N] [--out benchmarks/results/speed]
+         [--repeat N] [--today] [--half-step] [--out benchmarks/results/speed]
 
 A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.1
 (dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh
 treatment (quality remeshing) and linear solver as B. B is granflow's default. With
 --today, A0 is also run: issue 9's verified algorithm and code path (no quality remeshing,
-UMFPACK), the baseline users had before issue 13. For each case the JSON holds the
+UMFPACK), the baseline users had before issue 13. With --half-step, A_half (A with
+dt_max = 5e-5) is also run and A and B are compared with it: it tells whose error a
+distance between B and A is. For each case the JSON holds the
 summaries, the wall-time ratio A/B (median over the repeats), the linear solves, and for
 the collapses the stop times, runouts and the mean / max distance between the free
 surfaces of A and B at every output time.
@@ -86,12 +88,15 @@ def surfaces(a: Path, b: Path) -> dict[str, dict[str, float]]:
     return out
 
 
-def compare(name: str, repeat: int, out: Path, today: bool = False) -> dict:
+def compare(name: str, repeat: int, out: Path, today: bool = False,
+            half_step: bool = False) -> dict:
     scenario, common, paper = CASES[name]
     result: dict = {"scenario": scenario, "common_overrides": common, "A_overrides": paper}
     variants = [("A", paper), ("B", [])]
     if today and paper is PAPER and name != "plug-flow":
         variants.append(("A0", [*paper, *TODAY]))
+    if half_step and name != "plug-flow":      # whose error is a B-A distance? (A at dt/2)
+        variants.append(("A_half", [*paper, "time.dt_max=5e-5"]))
     walls: dict[str, list[float]] = {label: [] for label, _ in variants}
     for k in range(repeat):
         for label, extra in variants:
@@ -109,6 +114,9 @@ def compare(name: str, repeat: int, out: Path, today: bool = False) -> dict:
         result["speedup_vs_today"] = (result["wall_time_median_s"]["A0"]
                                       / result["wall_time_median_s"]["B"])
         result["surfaces_today"] = surfaces(out / name / "A00", out / name / "B0")
+    if "A_half" in walls:
+        result["surfaces_A_vs_A_half"] = surfaces(out / name / "A0", out / name / "A_half0")
+        result["surfaces_B_vs_A_half"] = surfaces(out / name / "B0", out / name / "A_half0")
     result["linear_solves_ratio"] = a["linear_solves"] / max(b["linear_solves"], 1)
     if a.get("runout_m") is not None and b.get("runout_m") is not None:
         result["runout_difference_m"] = b["runout_m"] - a["runout_m"]
@@ -126,10 +134,12 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed"))
     parser.add_argument("--today", action="store_true",
                         help="also run issue 9's verified path (no quality remesh, UMFPACK)")
+    parser.add_argument("--half-step", action="store_true",
+                        help="also run A with dt_max = 5e-5 and compare A and B with it")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     for name in args.cases:
-        result = compare(name, args.repeat, args.out / "runs", args.today)
+        result = compare(name, args.repeat, args.out / "runs", args.today, args.half_step)
         atomic_write_text(args.out / f"{name}.json", json.dumps(result, indent=2))
         print(name, "speed-up A/B", round(result["speedup"], 2), "solves",
               result["A"]["linear_solves"], "/", result["B"]["linear_solves"], flush=True)
