@@ -16,6 +16,7 @@ from collections.abc import Callable
 
 import ngsolve as ngs
 import numpy as np
+from scipy.spatial import cKDTree
 
 INWARD_NUDGE = 1e-9  # relative to the segment length: how far inside a clamped point sits
 
@@ -25,30 +26,68 @@ def boundary_segments(mesh: ngs.Mesh) -> np.ndarray:
     return mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
 
 
+def locate(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
+    """NGSolve mesh points of ``points`` (n, 2), found in one vectorised call; the ``nr``
+    field is -1 for a point outside the mesh."""
+    return mesh(np.ascontiguousarray(points[:, 0], dtype=float),
+                np.ascontiguousarray(points[:, 1], dtype=float))
+
+
 def clamp_inside(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     """Each point moved onto the nearest boundary point of ``mesh`` (just inside) when it
-    lies outside the mesh; points inside are returned unchanged."""
+    lies outside the mesh; points inside are returned unchanged.
+
+    Vectorised (a remesh of a long erodible layer transfers tens of thousands of points,
+    thousands of them outside, against thousands of boundary segments; issue 14): one
+    point location for all points, and for those outside only the segments a k-d tree of
+    segment midpoints cannot rule out. The nearest segment is the same as an all-pairs
+    search would find, ties going to the lowest segment number.
+    """
+    out = np.array(points, dtype=float)
+    outside = np.flatnonzero(locate(mesh, out)["nr"] < 0)
+    if outside.size == 0:
+        return out
     xy = mesh.ngmesh.Coordinates()
     seg = boundary_segments(mesh)
     a, b = xy[seg[:, 0]], xy[seg[:, 1]]
     d = b - a
-    length2 = np.sum(d * d, axis=1)
-    out = points.copy()
-    for i, p in enumerate(points):
-        if mesh(float(p[0]), float(p[1])).nr >= 0:
-            continue
-        s = np.clip(np.sum((p - a) * d, axis=1) / length2, 0.0, 1.0)
-        nearest = a + s[:, None] * d
-        k = int(np.argmin(np.sum((nearest - p) ** 2, axis=1)))
-        inward = np.array([-d[k, 1], d[k, 0]])      # left of a counter-clockwise edge
-        out[i] = nearest[k] + INWARD_NUDGE * inward
+    length2 = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]
+    tree = cKDTree(0.5 * (a + b))
+    p = out[outside]
+    _, first = tree.query(p)                                   # a segment close to each point
+    bound = np.sqrt(_distance2(p, a[first], d[first], length2[first])[0])
+    # any segment nearer than ``bound`` has its midpoint within bound + half its length
+    reach = (bound + 0.5 * np.sqrt(length2.max())) * (1 + 1e-9)
+    lists = tree.query_ball_point(p, reach)
+    counts = np.fromiter((len(c) for c in lists), dtype=np.int64, count=len(lists))
+    owner = np.repeat(np.arange(len(lists)), counts)
+    cand = np.concatenate([np.asarray(c, dtype=np.int64) for c in lists])
+    dist2, nearest = _distance2(p[owner], a[cand], d[cand], length2[cand])
+    order = np.lexsort((cand, dist2, owner))       # per point: nearest, then lowest number
+    pick = order[np.searchsorted(owner[order], np.arange(len(lists)))]
+    k = cand[pick]
+    inward = np.column_stack([-d[k, 1], d[k, 0]])  # left of a counter-clockwise edge
+    out[outside] = nearest[pick] + INWARD_NUDGE * inward
     return out
+
+
+def _distance2(p: np.ndarray, a: np.ndarray, d: np.ndarray,
+               length2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Squared distance from points p to segments a + s d (row by row), and the nearest
+    points; the same arithmetic, in the same order, as the all-pairs search it replaces."""
+    rel = p - a
+    s = np.clip((rel[:, 0] * d[:, 0] + rel[:, 1] * d[:, 1]) / length2, 0.0, 1.0)
+    nearest = a + s[:, None] * d
+    gap = nearest - p
+    return gap[:, 0] ** 2 + gap[:, 1] ** 2, nearest
 
 
 def sample(field: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     """Values of ``field`` (living on ``mesh``) at ``points`` clamped into the mesh."""
     mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
     inside = clamp_inside(mesh, points)
+    # point by point: NGSolve's vectorised evaluation (field(locate(...))) differs from it
+    # by round-off (1e-13), which would move the verified runs through their remeshes
     values = [field(mesh(float(x), float(y))) for x, y in inside]
     return np.atleast_2d(np.asarray(values, dtype=float).reshape(len(points), -1))
 
