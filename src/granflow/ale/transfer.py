@@ -99,64 +99,77 @@ def _edge_midpoints(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (xy[ends[:, 0]] + xy[ends[:, 1]]), ends
 
 
-def interpolate_p2(target: ngs.GridFunction,
-                   values_at: Callable[[np.ndarray], np.ndarray]) -> None:
-    """Set a P2 vector field from point values at the vertices and the edge midpoints.
-
-    ``values_at(points) -> (n, 2)``. NGSolve's second-order H1 basis is hierarchical: the
-    edge coefficient is (midpoint value - mean of the end values) / bubble(midpoint).
+class StateTransfer:
+    """What carrying a Taylor-Hood state onto one new mesh needs that does not depend on
+    the state: the P2 interpolation's edge geometry and the factorised divergence-free
+    projection. A remesh builds one and applies it to each state it carries over
+    ((u^n, p^n) and (u^{n-1}, p^{n-1})), so both share one assembly and one factorisation.
     """
-    mesh = target.space.mesh
-    xy = mesh.ngmesh.Coordinates()
-    mid, ends = _edge_midpoints(mesh)
-    at_vertices, at_mid = values_at(xy), values_at(mid)
-    scalar = ngs.H1(mesh, order=2)
-    edge_dofs = np.array([scalar.GetDofNrs(ngs.NodeId(ngs.EDGE, e))[0]
-                          for e in range(len(ends))])
-    bubble = ngs.GridFunction(scalar)
-    bubble.vec.FV().NumPy()[edge_dofs] = 1.0
-    bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in mid])
-    for c, component in enumerate(target.components):
-        vec = component.vec.FV().NumPy()
-        vec[:] = 0.0
-        vec[: mesh.nv] = at_vertices[:, c]
-        linear = 0.5 * (at_vertices[ends[:, 0], c] + at_vertices[ends[:, 1], c])
-        vec[edge_dofs] = (at_mid[:, c] - linear) / bubble_mid
 
+    def __init__(self, space: ngs.FESpace, walls: list[str], penalty: float) -> None:
+        mesh = space.mesh
+        self.mesh = mesh
+        self.mid, self.ends = _edge_midpoints(mesh)
+        scalar = ngs.H1(mesh, order=2)
+        self.edge_dofs = np.array([scalar.GetDofNrs(ngs.NodeId(ngs.EDGE, e))[0]
+                                   for e in range(len(self.ends))])
+        bubble = ngs.GridFunction(scalar)
+        bubble.vec.FV().NumPy()[self.edge_dofs] = 1.0
+        self.bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in self.mid])
+        # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0
+        (u, lam), (v, q) = space.TnT()
+        n = ngs.specialcf.normal(mesh.dim)
+        a = ngs.BilinearForm(space)
+        a += (u * v - lam * ngs.div(v) - q * ngs.div(u)) * ngs.dx
+        if walls:
+            a += penalty * (u * n) * (v * n) * ngs.ds(
+                definedon=mesh.Boundaries("|".join(walls)))
+        self._source = ngs.GridFunction(space)
+        self._rhs = ngs.LinearForm(space)
+        self._rhs += self._source.components[0] * v * ngs.dx
+        a.Assemble()
+        self._matrix = a
+        self._inverse = a.mat.Inverse(space.FreeDofs(), inverse="umfpack")
+        self._projected = ngs.GridFunction(space)
 
-def project_divergence_free(state: ngs.GridFunction, walls: list[str], penalty: float) -> None:
-    """Replace the velocity of ``state`` (Taylor-Hood) by its L2-nearest discretely
-    divergence-free field with u.N = 0 on ``walls`` (penalty), in place.
+    def interpolate_p2(self, target: ngs.GridFunction,
+                       values_at: Callable[[np.ndarray], np.ndarray]) -> None:
+        """Set a P2 vector field from point values at the vertices and edge midpoints.
 
-    Solves (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0.
-    """
-    space = state.space
-    mesh = space.mesh
-    (u, lam), (v, q) = space.TnT()
-    n = ngs.specialcf.normal(mesh.dim)
-    a = ngs.BilinearForm(space)
-    a += (u * v - lam * ngs.div(v) - q * ngs.div(u)) * ngs.dx
-    if walls:
-        a += penalty * (u * n) * (v * n) * ngs.ds(definedon=mesh.Boundaries("|".join(walls)))
-    f = ngs.LinearForm(space)
-    f += state.components[0] * v * ngs.dx
-    a.Assemble()
-    f.Assemble()
-    projected = ngs.GridFunction(space)
-    projected.vec.data = a.mat.Inverse(space.FreeDofs(), inverse="umfpack") * f.vec
-    state.components[0].vec.data = projected.components[0].vec
+        ``values_at(points) -> (n, 2)``. NGSolve's second-order H1 basis is hierarchical:
+        the edge coefficient is (midpoint value - mean of the end values) / bubble(midpoint).
+        """
+        at_vertices, at_mid = values_at(self.mesh.ngmesh.Coordinates()), values_at(self.mid)
+        ends = self.ends
+        for c, component in enumerate(target.components):
+            vec = component.vec.FV().NumPy()
+            vec[:] = 0.0
+            vec[: self.mesh.nv] = at_vertices[:, c]
+            linear = 0.5 * (at_vertices[ends[:, 0], c] + at_vertices[ends[:, 1], c])
+            vec[self.edge_dofs] = (at_mid[:, c] - linear) / self.bubble_mid
+
+    def project_divergence_free(self, state: ngs.GridFunction) -> None:
+        """Replace the velocity of ``state`` by its L2-nearest discretely divergence-free
+        field with u.N = 0 on the walls (penalty), in place."""
+        self._source.vec.data = state.vec
+        self._rhs.Assemble()
+        self._projected.vec.data = self._inverse * self._rhs.vec
+        state.components[0].vec.data = self._projected.components[0].vec
+
+    def apply(self, old: ngs.GridFunction, new: ngs.GridFunction) -> None:
+        """(u, p) of ``old`` (on the old mesh) onto ``new`` (on this transfer's mesh)."""
+        old_mesh = old.space.mesh
+        u_old, p_old = old.components
+        self.interpolate_p2(new.components[0], lambda pts: sample(u_old, old_mesh, pts))
+        xy = self.mesh.ngmesh.Coordinates()
+        new.components[1].vec.FV().NumPy()[: len(xy)] = sample(p_old, old_mesh, xy)[:, 0]
+        self.project_divergence_free(new)
 
 
 def transfer_state(old: ngs.GridFunction, new: ngs.GridFunction, walls: list[str],
                    penalty: float) -> None:
     """(u, p) from a Taylor-Hood field on the old mesh to one on the new mesh."""
-    old_mesh = old.space.mesh
-    u_old, p_old = old.components
-    interpolate_p2(new.components[0], lambda pts: sample(u_old, old_mesh, pts))
-    xy = new.space.mesh.ngmesh.Coordinates()
-    new.components[1].vec.FV().NumPy()[: len(xy)] = sample(p_old, old_mesh, xy)[:, 0]
-    project_divergence_free(new, walls, penalty)
-
+    StateTransfer(new.space, walls, penalty).apply(old, new)
 
 
 def transfer_tensor(old: ngs.GridFunction, new: ngs.GridFunction) -> None:

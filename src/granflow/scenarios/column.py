@@ -17,7 +17,7 @@ from granflow.ale.column_mover import ColumnMover
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import EdgeSize, boundary_edge_sizes, remesh, shape_quality
 from granflow.ale.surface_tension import SurfaceTension
-from granflow.ale.transfer import transfer_state, transfer_tensor
+from granflow.ale.transfer import StateTransfer, transfer_tensor
 from granflow.config import Config
 from granflow.diagnostics import front as front_diag
 from granflow.diagnostics.inertial import InertialNumbers
@@ -87,10 +87,10 @@ class ColumnCollapse:
         self.remesh_changes.append(change)
         self.remesh_restored.append(remeshed.area_restored)
         self.unrecorded_change += change
-        walls, penalty = [BED, WALL, END], self.config.boundary.penalty
-        transfer_state(old_solver.previous, solver.previous, walls, penalty)
+        transfer = StateTransfer(solver.space, [BED, WALL, END], self.config.boundary.penalty)
+        transfer.apply(old_solver.previous, solver.previous)
         if old_solver.dt_previous > 0:
-            transfer_state(old_solver.before_previous, solver.before_previous, walls, penalty)
+            transfer.apply(old_solver.before_previous, solver.before_previous)
             solver.dt_previous = old_solver.dt_previous
         solver.solution.vec.data = solver.previous.vec
         solver.extrapolation_won = old_solver.extrapolation_won
