@@ -93,7 +93,7 @@ def sample(field: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -
 
 
 def _edge_midpoints(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """Midpoints of the mesh edges and the P2 edge dof of each in a scalar H1 space."""
+    """Midpoints of the mesh edges and the vertex numbers of their ends."""
     xy = mesh.ngmesh.Coordinates()
     ends = np.array([[v.nr for v in e.vertices] for e in mesh.edges], dtype=np.int64)
     return 0.5 * (xy[ends[:, 0]] + xy[ends[:, 1]]), ends
