@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from granflow.ale.free_surface import BoundaryChain, pairs_cross, segments_intersect
-from granflow.ale.transfer import _edge_midpoints, boundary_segments, clamp_inside
+from granflow.ale.transfer import _edge_midpoints, clamp_all_pairs, clamp_inside
 from granflow.config import load_config
 from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.column import build_column
@@ -45,23 +45,6 @@ def pairwise(xy: np.ndarray, segments: np.ndarray) -> bool:
     """Session 8's test: the same predicate on every pair of segments."""
     i, j = np.triu_indices(len(segments), k=1)
     return pairs_cross(xy, segments, i, j)
-
-
-def clamp_all_pairs(mesh, points: np.ndarray) -> np.ndarray:
-    """Session 10's clamping: each point located alone, then tested against every
-    boundary segment."""
-    xy = mesh.ngmesh.Coordinates()
-    seg = boundary_segments(mesh)
-    a, d = xy[seg[:, 0]], xy[seg[:, 1]] - xy[seg[:, 0]]
-    out = points.copy()
-    for i, p in enumerate(points):
-        if mesh(float(p[0]), float(p[1])).nr >= 0:
-            continue
-        s = np.clip(np.sum((p - a) * d, axis=1) / np.sum(d * d, axis=1), 0.0, 1.0)
-        nearest = a + s[:, None] * d
-        k = int(np.argmin(np.sum((nearest - p) ** 2, axis=1)))
-        out[i] = nearest[k] + 1e-9 * np.array([-d[k, 1], d[k, 0]])
-    return out
 
 
 def clamping(mesh) -> dict:

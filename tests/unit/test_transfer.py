@@ -5,7 +5,7 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from granflow.ale.transfer import clamp_inside, transfer_state, transfer_tensor
+from granflow.ale.transfer import clamp_all_pairs, clamp_inside, transfer_state, transfer_tensor
 from granflow.fem.augmented_lagrangian import tensor_space
 from granflow.fem.spaces import taylor_hood
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
@@ -83,22 +83,6 @@ def test_a_linear_tensor_field_is_transferred_exactly() -> None:
     assert error < 1e-20
 
 
-def _clamp_all_pairs(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
-    """The reference: every outside point against every boundary segment."""
-    xy = mesh.ngmesh.Coordinates()
-    seg = mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
-    a, d = xy[seg[:, 0]], xy[seg[:, 1]] - xy[seg[:, 0]]
-    out = points.copy()
-    for i, p in enumerate(points):
-        if mesh(float(p[0]), float(p[1])).nr >= 0:
-            continue
-        s = np.clip(np.sum((p - a) * d, axis=1) / np.sum(d * d, axis=1), 0.0, 1.0)
-        nearest = a + s[:, None] * d
-        k = int(np.argmin(np.sum((nearest - p) ** 2, axis=1)))
-        out[i] = nearest[k] + 1e-9 * np.array([-d[k, 1], d[k, 0]])
-    return out
-
-
 def test_clamping_finds_the_same_nearest_boundary_points_as_an_all_pairs_search() -> None:
     """The k-d tree pruning of clamp_inside changes nothing: identical to the digit,
     on a polygon with short and long boundary segments and thousands of outside points."""
@@ -108,4 +92,4 @@ def test_clamping_finds_the_same_nearest_boundary_points_as_an_all_pairs_search(
     points = np.column_stack([rng.uniform(-0.2, 2.2, 3000), rng.uniform(-0.2, 0.7, 3000)])
     clamped = clamp_inside(mesh, points)
     assert np.count_nonzero((clamped != points).any(axis=1)) > 1000   # many were outside
-    assert np.array_equal(clamped, _clamp_all_pairs(mesh, points))
+    assert np.array_equal(clamped, clamp_all_pairs(mesh, points))

@@ -12,8 +12,6 @@ friction load, and perturbs the flow well beyond the interpolation error itself.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
@@ -82,14 +80,36 @@ def _distance2(p: np.ndarray, a: np.ndarray, d: np.ndarray,
     return gap[:, 0] ** 2 + gap[:, 1] ** 2, nearest
 
 
+def clamp_all_pairs(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
+    """The reference for ``clamp_inside`` (session 10's search, O(points x segments)): each
+    point located alone, each outside point compared with every boundary segment. Kept for
+    tests/unit/test_transfer.py and benchmarks/fold_checks.py."""
+    xy = mesh.ngmesh.Coordinates()
+    seg = boundary_segments(mesh)
+    a, d = xy[seg[:, 0]], xy[seg[:, 1]] - xy[seg[:, 0]]
+    out = np.array(points, dtype=float)
+    for i, p in enumerate(out):
+        if mesh(float(p[0]), float(p[1])).nr >= 0:
+            continue
+        s = np.clip(np.sum((p - a) * d, axis=1) / np.sum(d * d, axis=1), 0.0, 1.0)
+        nearest = a + s[:, None] * d
+        k = int(np.argmin(np.sum((nearest - p) ** 2, axis=1)))
+        out[i] = nearest[k] + INWARD_NUDGE * np.array([-d[k, 1], d[k, 0]])
+    return out
+
+
+def _evaluate(field: ngs.CoefficientFunction, mesh: ngs.Mesh, inside: np.ndarray) -> np.ndarray:
+    """Values of ``field`` at points inside ``mesh``, (n, dim). Point by point: NGSolve's
+    vectorised evaluation (field(locate(...))) differs from it by round-off (1e-13), which
+    would move the verified runs through their remeshes."""
+    values = [field(mesh(float(x), float(y))) for x, y in inside]
+    return np.atleast_2d(np.asarray(values, dtype=float).reshape(len(inside), -1))
+
+
 def sample(field: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     """Values of ``field`` (living on ``mesh``) at ``points`` clamped into the mesh."""
     mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
-    inside = clamp_inside(mesh, points)
-    # point by point: NGSolve's vectorised evaluation (field(locate(...))) differs from it
-    # by round-off (1e-13), which would move the verified runs through their remeshes
-    values = [field(mesh(float(x), float(y))) for x, y in inside]
-    return np.atleast_2d(np.asarray(values, dtype=float).reshape(len(points), -1))
+    return _evaluate(field, mesh, clamp_inside(mesh, points))
 
 
 def _edge_midpoints(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -131,15 +151,16 @@ class StateTransfer:
         self._matrix = a
         self._inverse = a.mat.Inverse(space.FreeDofs(), inverse="umfpack")
         self._projected = ngs.GridFunction(space)
+        self._clamped_on: ngs.Mesh | None = None
+        self._clamped_points = (np.empty((0, 2)), np.empty((0, 2)))
 
-    def interpolate_p2(self, target: ngs.GridFunction,
-                       values_at: Callable[[np.ndarray], np.ndarray]) -> None:
-        """Set a P2 vector field from point values at the vertices and edge midpoints.
+    def interpolate_p2(self, target: ngs.GridFunction, at_vertices: np.ndarray,
+                       at_mid: np.ndarray) -> None:
+        """Set a P2 vector field from its values (n, 2) at the vertices and edge midpoints.
 
-        ``values_at(points) -> (n, 2)``. NGSolve's second-order H1 basis is hierarchical:
-        the edge coefficient is (midpoint value - mean of the end values) / bubble(midpoint).
+        NGSolve's second-order H1 basis is hierarchical: the edge coefficient is
+        (midpoint value - mean of the end values) / bubble(midpoint).
         """
-        at_vertices, at_mid = values_at(self.mesh.ngmesh.Coordinates()), values_at(self.mid)
         ends = self.ends
         for c, component in enumerate(target.components):
             vec = component.vec.FV().NumPy()
@@ -159,11 +180,23 @@ class StateTransfer:
     def apply(self, old: ngs.GridFunction, new: ngs.GridFunction) -> None:
         """(u, p) of ``old`` (on the old mesh) onto ``new`` (on this transfer's mesh)."""
         old_mesh = old.space.mesh
+        vertices, mid = self._clamped(old_mesh)
         u_old, p_old = old.components
-        self.interpolate_p2(new.components[0], lambda pts: sample(u_old, old_mesh, pts))
-        xy = self.mesh.ngmesh.Coordinates()
-        new.components[1].vec.FV().NumPy()[: len(xy)] = sample(p_old, old_mesh, xy)[:, 0]
+        self.interpolate_p2(new.components[0], _evaluate(u_old, old_mesh, vertices),
+                            _evaluate(u_old, old_mesh, mid))
+        new.components[1].vec.FV().NumPy()[: len(vertices)] = _evaluate(
+            p_old, old_mesh, vertices)[:, 0]
         self.project_divergence_free(new)
+
+    def _clamped(self, old_mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
+        """This mesh's vertices and edge midpoints clamped into ``old_mesh``, computed once
+        per old mesh (both carried states live on it)."""
+        if self._clamped_on is not old_mesh:
+            old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
+            self._clamped_points = (clamp_inside(old_mesh, self.mesh.ngmesh.Coordinates()),
+                                    clamp_inside(old_mesh, self.mid))
+            self._clamped_on = old_mesh
+        return self._clamped_points
 
 
 def transfer_state(old: ngs.GridFunction, new: ngs.GridFunction, walls: list[str],
