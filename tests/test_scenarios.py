@@ -52,6 +52,20 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
             assert (out / "profiles" / f"{kind}_t0.040.csv").exists()
         assert (out / "plots" / "free_surface.png").exists()
         assert (out / "plots" / "speed.gif").exists()
+    # the last accepted state as profiles/*_final.csv, whatever the output times
+    assert summary["final_profiles_t"] == summary["t_final"]
+    finals = sorted(p.name for p in (out / "profiles").glob("*_final.csv"))
+    assert finals == (["velocity_final.csv"] if scenario in ("plug-flow", "incline-mu-i") else
+                      ["free_surface_final.csv", "interface_final.csv",
+                       "velocity_sections_final.csv"])
+    if scenario == "trapezoid-rigid":   # t_end is the last output time: the same state
+        for kind in ("free_surface", "velocity_sections", "interface"):
+            assert ((out / "profiles" / f"{kind}_final.csv").read_text()
+                    == (out / "profiles" / f"{kind}_t0.040.csv").read_text())
+    if scenario in ("trapezoid-rigid", "rectangle-rigid"):   # the front is the surface's end
+        rows = (out / "profiles" / "free_surface_final.csv").read_text().splitlines()[1:]
+        assert max(float(r.split(",")[0]) for r in rows) == pytest.approx(summary["runout_m"],
+                                                                         abs=1e-12)
     # `granflow plot` draws the same figures again from the files alone
     figures = sorted(p.name for p in (out / "plots").iterdir())
     assert figures

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +38,29 @@ def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[floa
     return out
 
 
+def _summary(run_dir: RunDir) -> dict[str, Any]:
+    path = run_dir.path("summary.json")
+    return json.loads(path.read_text()) if path.exists() else {}
+
+
+def _label(t: float, summary: dict[str, Any], prefix: str = "t = ") -> str:
+    """An output time's legend entry; "(rest state)" when it was written from the state at
+    rest because the run stopped before it (summary.json's outputs_at_rest)."""
+    rest = any(abs(t - x) < 1e-9 for x in summary.get("outputs_at_rest") or [])
+    return f"{prefix}{t:.2f} s" + (" (rest state)" if rest else "")
+
+
+def _final_surface(run_dir: RunDir, summary: dict[str, Any]) -> tuple[str, dict] | None:
+    """The last state's free surface (profiles/free_surface_final.csv) and its legend label:
+    "at rest" when the run stopped by the rest rule."""
+    path = run_dir.path("profiles/free_surface_final.csv")
+    t = summary.get("final_profiles_t")
+    if not path.exists() or t is None:
+        return None
+    what = "at rest" if summary.get("status") == "stopped" else "end"
+    return f"{what}, t = {t:.2f} s", _read(path)
+
+
 def initial_outline(config: Any) -> np.ndarray:
     """The column at t = 0 as a closed polyline (drawn dashed for reference)."""
     g = config.geometry
@@ -50,12 +74,16 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
     the run directory's files alone (profiles/, diagnostics.csv, frames/)."""
     times = list(config.time.output_times)
+    summary = _summary(run_dir)
     height = config.geometry.height
     outline = initial_outline(config)
     fig, ax = plt.subplots(figsize=(8, 3))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, prof in _profiles(run_dir, "free_surface", times):
-        ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
+        ax.plot(prof["x"], prof["z"], label=_label(t, summary))
+    final = _final_surface(run_dir, summary)
+    if final is not None:
+        ax.plot(final[1]["x"], final[1]["z"], color="k", lw=1.2, label=final[0])
     ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect="equal")
     _legend(ax)
     save_figure(fig, run_dir.path("plots/free_surface.png"))
@@ -63,7 +91,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     fig, ax = plt.subplots(figsize=(8, 3))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, prof in _profiles(run_dir, "interface", times):
-        line, = ax.plot(prof["x"], prof["z"], label=f"t = {t:.2f} s")
+        line, = ax.plot(prof["x"], prof["z"], label=_label(t, summary))
         surf = _profiles(run_dir, "free_surface", [t])
         if surf:
             ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
@@ -82,7 +110,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
                 if not p:
                     continue
                 m = np.isclose(p["section_x"], xs)
-                axes[0][j].plot(p["u_x"][m], p["z"][m], label=f"{t:.2f} s")
+                axes[0][j].plot(p["u_x"][m], p["z"][m], label=_label(t, summary, ""))
                 axes[1][j].plot(p["u_z"][m], p["z"][m])
             axes[0][j].set_title(f"X = {xs * 100:.1f} cm")
             axes[0][j].set_xlabel("U_X (m/s)")

@@ -211,16 +211,19 @@ class ColumnCollapse:
                 out.append((x, z, u))
         return out
 
-    def write_profiles(self, run_dir: RunDir, t: float) -> None:
+    def write_profiles(self, run_dir: RunDir, t: float, label: str | None = None) -> None:
+        """Free surface, velocity sections and interface as profiles/KIND_LABEL.csv (LABEL
+        defaults to tT.TTT)."""
+        label = label or f"t{t:.3f}"
         surface = self.surface()
-        run_dir.write_csv(f"profiles/free_surface_t{t:.3f}.csv", ["x", "z"], surface.tolist())
+        run_dir.write_csv(f"profiles/free_surface_{label}.csv", ["x", "z"], surface.tolist())
         rows = [[x, zi, ui[0], ui[1]] for x, z, u in self.sections()
                 for zi, ui in zip(z, u, strict=True)]
-        run_dir.write_csv(f"profiles/velocity_sections_t{t:.3f}.csv",
+        run_dir.write_csv(f"profiles/velocity_sections_{label}.csv",
                           ["section_x", "z", "u_x", "u_z"], rows)
         stations = np.linspace(0.0, front_diag.front_position(self.mesh.ngmesh.Coordinates()),
                                200)
-        run_dir.write_csv(f"profiles/interface_t{t:.3f}.csv", ["x", "z"],
+        run_dir.write_csv(f"profiles/interface_{label}.csv", ["x", "z"],
                           np.column_stack([stations, self.interface(stations)]).tolist())
 
     def frame(self, sim: Simulation) -> dict[str, Any]:

@@ -134,9 +134,10 @@ class PlugFlow:
         ref = self.reference(t)
         return z, u, ref(z) if ref is not None else np.full(len(z), np.nan)
 
-    def write_profiles(self, run_dir: RunDir, t: float) -> None:
+    def write_profiles(self, run_dir: RunDir, t: float, label: str | None = None) -> None:
         z, u, ref = self.profile(t)
-        run_dir.write_csv(f"profiles/velocity_t{t:.3f}.csv", ["z", "u_x", "u_z", "u_reference"],
+        name = f"profiles/velocity_{label or f't{t:.3f}'}.csv"
+        run_dir.write_csv(name, ["z", "u_x", "u_z", "u_reference"],
                           np.column_stack([z, u, ref]).tolist())
 
     def summary(self, result: RunResult) -> dict[str, Any]:

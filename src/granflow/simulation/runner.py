@@ -48,7 +48,7 @@ class Problem(Protocol):
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]: ...
     def record(self, row: dict[str, float]) -> None: ...
-    def write_profiles(self, run_dir: RunDir, t: float) -> None: ...
+    def write_profiles(self, run_dir: RunDir, t: float, label: str | None = None) -> None: ...
     def summary(self, result: RunResult) -> dict[str, Any]: ...
     def plot(self, run_dir: RunDir) -> None: ...
     def save_state(self) -> dict[str, Any]: ...
@@ -182,6 +182,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     sim.checkpoint, sim.checkpoint_every = checkpoint, config.output.checkpoint_every
     if resume is None:
         write_fields(series, problem, 0.0)
+    crashed: Exception | None = None
     try:
         with _interrupts_to(sim):
             result = sim.run()
@@ -189,6 +190,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
             checkpoint(sim)        # the last accepted state: `granflow resume` goes on
             result.message += f"; continue with `granflow resume {run_dir.root}`"
     except Exception as exc:  # keep what was written; report instead of crashing
+        crashed = exc
         result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
                            f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
                            sim.nonlinear_iterations, sim.linear_solves,
@@ -198,6 +200,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
         bar.close()
         log.close()
     at_rest = at_times.flush(sim) if result.status == "stopped" else []
+    final = _write_final_state(run_dir, problem, series, sim) if crashed is None else None
     solver = problem.solver
     volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
     summary: dict[str, Any] = _summary_head(config, result.status, result.message) | {
@@ -206,6 +209,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
         "rejected_steps": result.rejected_steps,
         "rejections": result.rejections,
         "outputs_at_rest": at_rest,   # output times written from the final (rest) state
+        "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
         "unconverged_steps": result.unconverged_steps,
         "nonlinear_iterations": result.nonlinear_iterations,
         "linear_solves": result.linear_solves,
@@ -224,6 +228,21 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     except Exception as exc:  # a figure must never turn a finished run into a failure
         run_dir.write_text("plots/error.txt", f"{type(exc).__name__}: {exc}\n")
     return summary
+
+
+def _write_final_state(run_dir: RunDir, problem: Problem, series: VtkSeries,
+                       sim: Simulation) -> float | None:
+    """The last accepted state as profiles/*_final.csv and a last VTU snapshot: the deposit
+    of a run that stopped, where a failed run stood. Returns its time, or None if it could
+    not be written (the reason in profiles/final_error.txt; the run's result stands)."""
+    try:
+        problem.write_profiles(run_dir, sim.t, "final")
+        if not series.entries or abs(series.entries[-1][0] - sim.t) > 1e-12:
+            write_fields(series, problem, sim.t)
+    except Exception as exc:  # an output must never turn a finished run into a failure
+        run_dir.write_text("profiles/final_error.txt", f"{type(exc).__name__}: {exc}\n")
+        return None
+    return sim.t
 
 
 @contextlib.contextmanager
