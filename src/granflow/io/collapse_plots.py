@@ -84,7 +84,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     final = _final_surface(run_dir, summary)
     if final is not None:
         ax.plot(final[1]["x"], final[1]["z"], color="k", lw=1.2, label=final[0])
-    ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect="equal")
+    ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect=_aspect(ax, height))
     _legend(ax)
     save_figure(fig, run_dir.path("plots/free_surface.png"))
 
@@ -95,7 +95,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         surf = _profiles(run_dir, "free_surface", [t])
         if surf:
             ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
-    ax.set(xlabel="X (m)", ylabel="Z (m)", aspect="equal",
+    ax.set(xlabel="X (m)", ylabel="Z (m)", aspect=_aspect(ax, height),
            title="Static/flowing interface (|u| > 1 mm/s), dotted: free surface")
     _legend(ax)
     save_figure(fig, run_dir.path("plots/interface.png"))
@@ -132,6 +132,13 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     frames = read_frames(run_dir.root)
     if frames:
         _animate(run_dir.path("plots/speed.gif"), frames, outline, height)
+
+
+def _aspect(ax: plt.Axes, height: float) -> str:
+    """True proportions, unless the flow ran out over more than 8 column heights (a slope):
+    then a stretched Z, or the deposit would be a line."""
+    xmin, xmax = ax.dataLim.intervalx
+    return "equal" if xmax - xmin <= 8 * height else "auto"
 
 
 def _legend(ax: plt.Axes) -> None:
