@@ -68,6 +68,14 @@ def surfaces(run: Path) -> dict[float, np.ndarray]:
     return out
 
 
+def eroding_mass(surface: np.ndarray, layer: float = 0.005) -> np.ndarray:
+    """The free surface up to the front of the eroding mass (the rightmost point more than
+    1 mm above the layer) and the next point, where it meets the layer: what a rigid-bed
+    surface can be compared with (beyond lies the undisturbed layer, to 0.8 m)."""
+    above = np.flatnonzero(surface[:, 1] > layer + 1e-3)
+    return surface[: above.max() + 2] if above.size else surface
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS))
@@ -93,6 +101,9 @@ def main() -> None:
     for name, row in results.items():
         ref = VARIANTS[name][2]
         a, b = surfaces(args.out / "runs" / str(ref)), surfaces(args.out / "runs" / name)
+        over_layer = VARIANTS[name][0] == "trapezoid-erodible"
+        if ref and over_layer and VARIANTS[ref][0] == "trapezoid-rigid":
+            b = {t: eroding_mass(x) for t, x in b.items()}
         if ref and ref in results and a and b:   # (runs no longer on disk keep their rows)
             row["surface_vs_" + ref + "_mm"] = {
                 f"{t:g}": [round(1e3 * x, 3) for x in surface_distance(a[t], b[t])]
