@@ -60,6 +60,12 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> dict:
     return result
 
 
+def final_front(out: Path) -> float:
+    """The end of profiles/free_surface_final.csv: the front of the last accepted state."""
+    rows = (out / "profiles" / "free_surface_final.csv").read_text().splitlines()[1:]
+    return max(float(row.split(",")[0]) for row in rows)
+
+
 def assert_same_result(resumed: dict, reference: dict) -> None:
     assert resumed["status"] == "stopped" and resumed["resumed"] is True
     assert resumed["stop_time_s"] == pytest.approx(reference["stop_time_s"], rel=0.01)
@@ -100,8 +106,11 @@ def test_sigint_checkpoints_and_resumes_and_a_running_directory_is_refused(
     interrupted = summary(out)
     assert interrupted["status"] == "interrupted" and (out / "checkpoint/state.pkl").is_file()
     assert interrupted["steps"] < reference["steps"]
+    assert final_front(out) == pytest.approx(interrupted["runout_m"], abs=1e-12)  # where it stood
+    assert interrupted["final_profiles_t"] == interrupted["t_final"]
     done = granflow("resume", out, "--quiet")
     assert done.returncode == 0, done.stderr
-    assert_same_result(summary(out), reference)
+    assert_same_result(resumed := summary(out), reference)
+    assert final_front(out) == pytest.approx(resumed["runout_m"], abs=1e-12)   # the deposit
     again = granflow("resume", out)
     assert again.returncode == 2 and "already finished" in again.stderr

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from granflow.ale.mesh_motion import MoveFailure
 from granflow.fem.nonlinear import IterationReport
-from granflow.simulation.simulation import Simulation
+from granflow.simulation.simulation import STALL_STEPS, Simulation
 from granflow.simulation.timestep import fixed_step
 
 
@@ -85,3 +85,31 @@ def test_a_move_no_remesh_can_cure_fails_with_time_step_and_advice() -> None:
     for part in ("step 1", "t = 0 s", "self-intersects", "remeshing failed",
                  "13 consecutive rejected steps", "time.dt"):
         assert part in result.message
+
+
+class TinyStepSolver(StubSolver):
+    """Converges only for steps under 1e-8 s: a run that would crawl forever."""
+
+    def solve_step(self, dt: float, tol: float, max_iterations: int,
+                   velocity_floor: float = 0.0) -> IterationReport:
+        if dt < 1e-8:
+            return IterationReport(converged=True, iterations=1, relative_change=0.0)
+        return IterationReport(converged=False, iterations=max_iterations, relative_change=1.0)
+
+
+def test_a_run_that_only_advances_by_tiny_steps_fails_as_stalled() -> None:
+    sim = Simulation(solver=TinyStepSolver(), steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                     t_end=0.01, max_iterations=10, max_consecutive_rejections=30)
+    result = sim.run()
+    assert result.status == "failed" and result.steps == STALL_STEPS + 1
+    assert result.t_final < 1e-3                     # less than one dt_max in 1,000 steps
+    for part in ("stalled at t = ", f"step {STALL_STEPS + 1}", "less than one dt_max",
+                 "not_converged", "numerics.max_iterations"):
+        assert part in result.message
+
+
+def test_the_stall_test_leaves_a_run_of_full_steps_alone() -> None:
+    sim = Simulation(solver=StubSolver(), steps_policy=fixed_step(2.5, 1e-3, 1e-3),  # type: ignore[arg-type]
+                     t_end=2.5, max_iterations=10)
+    result = sim.run()
+    assert result.status == "completed" and result.steps == 2500

@@ -53,6 +53,16 @@ class Rejection(Enum):
     EXCEPTION = "the solver raised an error"
 
 
+STALL_STEPS = 1000   # accepted steps that must advance t by at least one dt_max
+STALL_ADVICE = {     # by the most frequent rejection while the run stalled
+    "not_converged": "Try a larger numerics.max_iterations or numerics.linearization = "
+                     "'hybrid' or 'newton'",
+    "non_finite": "Try numerics.linearization = 'hybrid' or 'newton', or a larger numerics.eps",
+    "move": "Try a smaller mesh.size or a larger mesh.remesh_quality",
+    "error": "Try a larger time.error_tol or time.error_floor",
+    "exception": "See the rejections in summary.json",
+}
+
 Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
 
@@ -95,6 +105,7 @@ class Simulation:
     remesher: Remesher | None = None
     velocity_floor: float = 0.0
     max_consecutive_rejections: int = 12
+    stall_steps: int = STALL_STEPS       # 0: no stall test
     t: float = 0.0
     step: int = 0
     dt: float = 0.0
@@ -114,6 +125,7 @@ class Simulation:
     _start: float = field(default=0.0, repr=False)
     _rejections_in_row: int = field(default=0, repr=False)
     _remesh_error: str = field(default="", repr=False)
+    _window: tuple[int, float, dict[str, int]] | None = field(default=None, repr=False)
 
     def replace(self, solver: FlowSolver, mesh_motion: MeshMotion) -> None:
         """Continue on a new mesh (after a remesh): same time, counters and policy."""
@@ -229,6 +241,31 @@ class Simulation:
                     "or a larger numerics.max_iterations")
         return f"Try a smaller {step_key} or mesh.size"
 
+    def _stalled(self) -> str | None:
+        """A failure message when the last ``stall_steps`` accepted steps advanced t by less
+        than one dt_max: steps accepted only because they are tiny (a nonlinear iteration
+        or a move that succeeds only at dt ~ 1e-9 s) would otherwise crawl forever."""
+        if self.stall_steps <= 0:
+            return None
+        if self._window is None:
+            self._window = (self.step, self.t, dict(self.rejections))
+            return None
+        step0, t0, rejected0 = self._window
+        if self.step - step0 < self.stall_steps:
+            return None
+        self._window = (self.step, self.t, dict(self.rejections))
+        dt_max = getattr(self.steps_policy, "dt_max", 0.0)
+        if self.t - t0 >= dt_max:
+            return None
+        recent = {k: n - rejected0.get(k, 0) for k, n in self.rejections.items()
+                  if n > rejected0.get(k, 0)}
+        worst = max(recent, key=recent.__getitem__) if recent else None
+        advice = STALL_ADVICE.get(worst or "", STALL_ADVICE["error"])
+        return (f"stalled at t = {self.t:.6g} s (step {self.step}): the last "
+                f"{self.step - step0} accepted steps advanced t by {self.t - t0:.3g} s, less "
+                f"than one dt_max ({dt_max:g} s); last dt = {self.dt:.3g} s, rejected "
+                f"attempts meanwhile: {recent or 'none'}. {advice}")
+
     def run(self) -> RunResult:
         self._start = time.perf_counter()
         status, message = "completed", f"reached t_end = {self.t_end:g} s"
@@ -255,6 +292,10 @@ class Simulation:
             reason = next((r for c in self.stop_criteria if (r := c(self)) is not None), None)
             if reason is not None:
                 status, message = "stopped", reason
+                break
+            stall = self._stalled()
+            if stall is not None:
+                status, message = "failed", stall
                 break
             if (self.checkpoint is not None and self.checkpoint_every > 0
                     and self.step % self.checkpoint_every == 0):
