@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import pytest
+
 from granflow.ale.mesh_motion import MoveFailure
 from granflow.fem.nonlinear import IterationReport
 from granflow.simulation.simulation import STALL_STEPS, Simulation
-from granflow.simulation.timestep import fixed_step
+from granflow.simulation.timestep import AdaptiveStep, RampedStep, fixed_step
 
 
 class StubSolver:
@@ -108,8 +110,25 @@ def test_a_run_that_only_advances_by_tiny_steps_fails_as_stalled() -> None:
         assert part in result.message
 
 
-def test_the_stall_test_leaves_a_run_of_full_steps_alone() -> None:
-    sim = Simulation(solver=StubSolver(), steps_policy=fixed_step(2.5, 1e-3, 1e-3),  # type: ignore[arg-type]
-                     t_end=2.5, max_iterations=10)
+class ErrorControlledSolver(StubSolver):
+    """Converges at once; its local error asks for steps of about 1e-5 s."""
+
+    def local_error(self, dt: float) -> tuple[float, float] | None:
+        return 1e-2 * (dt / 1e-5) ** 2, 1.0      # error_tol 1e-2 x speed 1 at dt = 1e-5
+
+
+@pytest.mark.parametrize("policy", ["slow ramp", "error control far below dt_max"])
+def test_the_stall_test_leaves_small_steps_the_policy_chose_alone(policy: str) -> None:
+    if policy == "slow ramp":   # the paper's ramp (3.1) from 1e-8 s, but growing by 1.001
+        steps = RampedStep(t_end=2e-4, dt_init=1e-8, dt_max=1e-4, growth=1.001, tol=1e-3,
+                           tol_init=1e-3)
+        solver: StubSolver = StubSolver()
+    else:
+        steps = AdaptiveStep(t_end=0.03, dt_init=1e-5, dt_max=1.0, tol=1e-3, error_tol=1e-2,
+                             error_floor=1e-3)
+        solver = ErrorControlledSolver()
+    sim = Simulation(solver=solver, steps_policy=steps, t_end=steps.t_end,  # type: ignore[arg-type]
+                     max_iterations=10)
     result = sim.run()
-    assert result.status == "completed" and result.steps == 2500
+    assert result.status == "completed", result.message
+    assert result.steps > 2 * STALL_STEPS          # many small steps, none of them stalled

@@ -52,12 +52,12 @@ def _label(t: float, summary: dict[str, Any], prefix: str = "t = ") -> str:
 
 def _final_surface(run_dir: RunDir, summary: dict[str, Any]) -> tuple[str, dict] | None:
     """The last state's free surface (profiles/free_surface_final.csv) and its legend label:
-    "at rest" when the run stopped by the rest rule."""
+    "at rest" when the run stopped by the rest rule, else the run's status."""
     path = run_dir.path("profiles/free_surface_final.csv")
     t = summary.get("final_profiles_t")
     if not path.exists() or t is None:
         return None
-    what = "at rest" if summary.get("status") == "stopped" else "end"
+    what = "at rest" if summary.get("status") == "stopped" else summary.get("status", "end")
     return f"{what}, t = {t:.2f} s", _read(path)
 
 

@@ -109,6 +109,9 @@ def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[
 def _run_locked(config: Config, run_dir: RunDir, progress: bool,
                 resume: SimulationState | None) -> dict[str, Any]:
     started = "resumed" if resume else "started"
+    for stale in [*run_dir.path("profiles").glob("*_final.csv"),   # of an earlier session
+                  run_dir.path("profiles/final_error.txt")]:
+        stale.unlink(missing_ok=True)
     run_dir.write_json("summary.json", _summary_head(
         config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
     try:
@@ -199,8 +202,8 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     finally:
         bar.close()
         log.close()
-    at_rest = at_times.flush(sim) if result.status == "stopped" else []
     final = _write_final_state(run_dir, problem, series, sim) if crashed is None else None
+    at_rest = at_times.flush(sim) if result.status == "stopped" else []
     solver = problem.solver
     volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
     summary: dict[str, Any] = _summary_head(config, result.status, result.message) | {

@@ -54,12 +54,11 @@ class Rejection(Enum):
 
 
 STALL_STEPS = 1000   # accepted steps that must advance t by at least one dt_max
-STALL_ADVICE = {     # by the most frequent rejection while the run stalled
+STALL_ADVICE = {     # by the most frequent failure while the run stalled (Rejection names)
     "not_converged": "Try a larger numerics.max_iterations or numerics.linearization = "
                      "'hybrid' or 'newton'",
     "non_finite": "Try numerics.linearization = 'hybrid' or 'newton', or a larger numerics.eps",
     "move": "Try a smaller mesh.size or a larger mesh.remesh_quality",
-    "error": "Try a larger time.error_tol or time.error_floor",
     "exception": "See the rejections in summary.json",
 }
 
@@ -243,8 +242,11 @@ class Simulation:
 
     def _stalled(self) -> str | None:
         """A failure message when the last ``stall_steps`` accepted steps advanced t by less
-        than one dt_max: steps accepted only because they are tiny (a nonlinear iteration
-        or a move that succeeds only at dt ~ 1e-9 s) would otherwise crawl forever."""
+        than one dt_max while at least a tenth as many attempts were rejected for another
+        reason than the step error (the solve or the move failed): steps accepted only
+        because they are tiny (an iteration or a move that succeeds only at dt ~ 1e-9 s)
+        would otherwise crawl forever. Small steps the policy chose (a slow ramp, an error
+        controller far below dt_max) are left alone."""
         if self.stall_steps <= 0:
             return None
         if self._window is None:
@@ -254,17 +256,16 @@ class Simulation:
         if self.step - step0 < self.stall_steps:
             return None
         self._window = (self.step, self.t, dict(self.rejections))
-        dt_max = getattr(self.steps_policy, "dt_max", 0.0)
-        if self.t - t0 >= dt_max:
+        dt_max = min(getattr(self.steps_policy, "dt_max", 0.0), self.t_end - t0)
+        failed = {k: n - rejected0.get(k, 0) for k, n in self.rejections.items()
+                  if k != "error" and n > rejected0.get(k, 0)}
+        if self.t - t0 >= dt_max or 10 * sum(failed.values()) < self.step - step0:
             return None
-        recent = {k: n - rejected0.get(k, 0) for k, n in self.rejections.items()
-                  if n > rejected0.get(k, 0)}
-        worst = max(recent, key=recent.__getitem__) if recent else None
-        advice = STALL_ADVICE.get(worst or "", STALL_ADVICE["error"])
+        worst = max(failed, key=failed.__getitem__)
         return (f"stalled at t = {self.t:.6g} s (step {self.step}): the last "
                 f"{self.step - step0} accepted steps advanced t by {self.t - t0:.3g} s, less "
-                f"than one dt_max ({dt_max:g} s); last dt = {self.dt:.3g} s, rejected "
-                f"attempts meanwhile: {recent or 'none'}. {advice}")
+                f"than one dt_max ({dt_max:g} s), last dt = {self.dt:.3g} s, while attempts "
+                f"were rejected: {failed}. {STALL_ADVICE[worst]}")
 
     def run(self) -> RunResult:
         self._start = time.perf_counter()
