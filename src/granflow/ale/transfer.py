@@ -148,7 +148,7 @@ class StateTransfer:
         self._rhs = ngs.LinearForm(space)
         self._rhs += self._source.components[0] * v * ngs.dx
         a.Assemble()
-        self._matrix = a
+        self._matrix = a       # held with its factorisation for the transfer's lifetime
         self._inverse = a.mat.Inverse(space.FreeDofs(), inverse="umfpack")
         self._projected = ngs.GridFunction(space)
         self._clamped_on: ngs.Mesh | None = None

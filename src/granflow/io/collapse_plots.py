@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import json
 from pathlib import Path
 from typing import Any
 
@@ -38,11 +37,6 @@ def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[floa
     return out
 
 
-def _summary(run_dir: RunDir) -> dict[str, Any]:
-    path = run_dir.path("summary.json")
-    return json.loads(path.read_text()) if path.exists() else {}
-
-
 def _label(t: float, summary: dict[str, Any], prefix: str = "t = ") -> str:
     """An output time's legend entry; "(rest state)" when it was written from the state at
     rest because the run stopped before it (summary.json's outputs_at_rest)."""
@@ -74,7 +68,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
     the run directory's files alone (profiles/, diagnostics.csv, frames/)."""
     times = list(config.time.output_times)
-    summary = _summary(run_dir)
+    summary = RunDir.summary(run_dir.root)
     height = config.geometry.height
     outline = initial_outline(config)
     fig, ax = plt.subplots(figsize=(8, 3))

@@ -167,12 +167,18 @@ class RunDir:
             return False
 
     @staticmethod
+    def summary(path: Path) -> dict[str, Any]:
+        """``path``/summary.json, or {} without a readable one."""
+        try:
+            summary = json.loads((Path(path) / "summary.json").read_text())
+        except (OSError, ValueError):
+            return {}
+        return summary if isinstance(summary, dict) else {}
+
+    @staticmethod
     def status(path: Path) -> str | None:
         """The ``status`` in ``path``/summary.json, or None without a readable one."""
-        try:
-            return json.loads((Path(path) / "summary.json").read_text()).get("status")
-        except (OSError, ValueError, AttributeError):
-            return None
+        return RunDir.summary(path).get("status")
 
     def path(self, relpath: str | Path) -> Path:
         """Absolute path of ``relpath`` inside the run directory; its parent folders exist."""
