@@ -5,6 +5,9 @@
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
     granflow plot RUN_DIR
     granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
+    granflow converge SCENARIO|FILE [--in time|space|both] [--levels N] [--set key=value ...]
+                      [--tolerances NAME=VALUE,...] [--scheduler ADDRESS] [--workers N]
+                      [--out DIR]
     granflow verify plug-flow [--table 1|2] [--cells quick|all] [--out DIR] [--quiet]
 
 The configuration is loaded and validated before anything is created; an invalid one is
@@ -23,6 +26,15 @@ from typing import Any, NoReturn
 
 from granflow import __version__
 from granflow.config import CUSTOM, Config, ConfigError, config_to_toml, load_config
+from granflow.converge import (
+    DEFAULT_TOLERANCES,
+    MAX_LEVELS,
+    MIN_LEVELS,
+    MODES,
+    TOLERANCE_MEANING,
+    ConvergeError,
+    parse_tolerances,
+)
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios.registry import builtin_scenarios
@@ -38,7 +50,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         return args.command(args)
-    except (ConfigError, RunDirError, CheckpointError, SweepError) as err:
+    except (ConfigError, RunDirError, CheckpointError, SweepError, ConvergeError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -105,6 +117,42 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="sweep folder (default: runs/sweep-<name>)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_sweep)
+
+    p = commands.add_parser(
+        "converge", help="rerun a case at successive resolutions: has it converged?",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Run a case at levels k = 0..N-1, each refined by 2^k in time (the step\n"
+                    "halves per level), space (mesh.size halves; an erodible layer gets twice\n"
+                    "the mesh.layer_cells) or both, on Dask: one run directory per level,\n"
+                    "rerunning skips finished levels. Compare consecutive levels (stop time,\n"
+                    "runout, free surfaces at the common output times), fit the observed\n"
+                    "orders, write converge.csv, converge.json and converge.png. Exit code 0\n"
+                    "when the finest two levels agree within the tolerances, 1 when not.",
+        epilog="tolerances (--tolerances NAME=VALUE,..., any subset; defaults: the project's "
+               "accuracy targets):\n" + "\n".join(
+                   f"  {k:<14} {v:<6g} {TOLERANCE_MEANING[k]}" for k, v in
+                   DEFAULT_TOLERANCES.items())
+               + "\nexample: granflow converge rectangle-rigid --in space --levels 3 "
+                 "--tolerances runout=0.01,surface_max=0.005")
+    p.add_argument("scenario", metavar="SCENARIO|FILE",
+                   help="built-in scenario name or path of a TOML file")
+    p.add_argument("--in", dest="mode", choices=MODES, default="time",
+                   help="what is refined per level (default: time)")
+    p.add_argument("--levels", type=_levels, default=3, metavar="N",
+                   help=f"number of levels, {MIN_LEVELS}..{MAX_LEVELS} (default 3; the order "
+                        "needs 3)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="override a key of the base case (level 0), repeatable")
+    p.add_argument("--tolerances", type=_tolerances, default=dict(DEFAULT_TOLERANCES),
+                   metavar="NAME=VALUE,...", help="tolerances of the verdict (see below)")
+    p.add_argument("--out", type=Path, metavar="DIR",
+                   help="study folder (default: runs/converge-<case>-<in>)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running Dask scheduler; default: a LocalCluster")
+    p.add_argument("--workers", type=_positive_int, default=2, metavar="N",
+                   help="worker processes of the LocalCluster (default 2)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(command=_converge)
 
     p = commands.add_parser(
         "plot", help="draw every figure and the animation of a run again, from its files",
@@ -210,6 +258,44 @@ def _sweep(args: argparse.Namespace) -> int:
         print(f"granflow: run {row['run']} {row['status']}: {row.get('message', '')}",
               file=sys.stderr)
     return 1 if result.failed else 0
+
+
+def _levels(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is None or not MIN_LEVELS <= value <= MAX_LEVELS:
+        raise argparse.ArgumentTypeError(f"must be a whole number {MIN_LEVELS}..{MAX_LEVELS}, "
+                                         f"got {text!r}")
+    return value
+
+
+def _tolerances(text: str) -> dict[str, float]:
+    try:
+        return parse_tolerances(text)
+    except ConvergeError as err:
+        raise argparse.ArgumentTypeError(str(err).removeprefix("--tolerances: ")) from None
+
+
+def _converge(args: argparse.Namespace) -> int:
+    from granflow.converge import Study, format_table, run_study
+    from granflow.sweep import Cluster
+
+    study = Study(args.scenario, args.mode, args.levels, tuple(args.overrides), args.tolerances)
+    out = args.out if args.out is not None else RUNS_FOLDER / f"converge-{study.label}-{args.mode}"
+    if str(out).strip() == "":
+        raise RunDirError("--out must name a folder for the study (got an empty path)")
+    study.runs(out)                         # every level validated before any worker starts
+    _check_solver(load_config(args.scenario, args.overrides))
+    with Cluster(args.scheduler, args.workers) as cluster:
+        where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
+        print(f"granflow: converge {study.label} in {args.mode}: {args.levels} levels on "
+              f"{where} -> {out}")
+        report = run_study(study, out, cluster.client, progress=not args.quiet)
+    print(format_table(report))
+    print(f"granflow: converge.csv, converge.json, converge.png in {out}")
+    return 0 if report.converged else 1
 
 
 def _plot(args: argparse.Namespace) -> int:

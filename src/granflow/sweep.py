@@ -213,13 +213,32 @@ def write_csv(path: Path, sweep: Sweep, rows: list[dict[str, Any]]) -> None:
 def run_sweep(sweep: Sweep, out: Path, client: Any,
               report: Callable[[str], None] = print, progress: bool = True) -> SweepResult:
     """Submit every unfinished run to the Dask ``client``; gather sweep.csv in ``out``."""
-    from distributed import as_completed
-    from tqdm import tqdm
-
     start = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "sweep.toml", _describe(sweep))
-    runs = sweep.runs()
+    csv_path = out / "sweep.csv"
+    rows, skipped = run_all(sweep.runs(), out, client, key=f"granflow-{sweep.name}",
+                            on_rows=lambda rows: write_csv(csv_path, sweep, rows),
+                            report=report, progress=progress)
+    return SweepResult(rows, csv_path, skipped, time.perf_counter() - start)
+
+
+def run_all(runs: list[SweepRun], out: Path, client: Any, key: str,
+            on_rows: Callable[[list[dict[str, Any]]], None] | None = None,
+            report: Callable[[str], None] = print, progress: bool = True,
+            desc: str = "sweep") -> tuple[list[dict[str, Any]], int]:
+    """Run each of ``runs`` as one Dask task into ``out``/NAME; return (rows, skipped).
+
+    Runs that already finished in ``out`` are skipped (their rows are read from their
+    summaries); the others are submitted to ``client`` with :func:`run_one`, which resumes
+    an interrupted run from its checkpoint. ``on_rows`` receives all rows so far, once
+    before the first task and after each finished one (to rewrite a table as runs finish).
+    Shared by ``granflow sweep`` and ``granflow converge``.
+    """
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    out.mkdir(parents=True, exist_ok=True)
     rows: dict[str, dict[str, Any]] = {}
     todo = []
     for run in runs:
@@ -231,23 +250,23 @@ def run_sweep(sweep: Sweep, out: Path, client: Any,
     skipped = len(rows)
     if skipped:
         report(f"granflow: {skipped} of {len(runs)} runs already finished, skipped")
-    csv_path = out / "sweep.csv"
-    write_csv(csv_path, sweep, list(rows.values()))
-    futures = [client.submit(run_one, run, str(out), key=f"granflow-{sweep.name}-{run.name}",
-                             pure=False) for run in todo]
+    if on_rows is not None:
+        on_rows(list(rows.values()))
+    futures = [client.submit(run_one, run, str(out), key=f"{key}-{run.name}", pure=False)
+               for run in todo]
     failed = 0
-    with tqdm(total=len(todo), disable=not progress, unit="run", desc="sweep") as bar:
+    with tqdm(total=len(todo), disable=not progress, unit="run", desc=desc) as bar:
         for future in as_completed(futures):
             row = future.result()
             rows[row["run"]] = row
             failed += row["status"] not in FINISHED
-            write_csv(csv_path, sweep, list(rows.values()))
+            if on_rows is not None:
+                on_rows(list(rows.values()))
             running = sum(not f.done() for f in futures)
             bar.set_postfix_str(f"done {bar.n + 1}, running {min(running, _workers(client))}, "
                                 f"failed {failed}", refresh=False)
             bar.update(1)
-    return SweepResult(sorted(rows.values(), key=lambda r: r["run"]), csv_path, skipped,
-                       time.perf_counter() - start)
+    return sorted(rows.values(), key=lambda r: r["run"]), skipped
 
 
 def _workers(client: Any) -> int:

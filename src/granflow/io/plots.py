@@ -52,3 +52,26 @@ def plot_convergence_table(path: Path, results: list, table: int) -> None:
     axes[0][0].set_ylabel("relative L2 error of u at T")
     axes[0][0].legend(title="solid: granflow\ndashed: paper", fontsize=8)
     save_figure(fig, path)
+
+
+def plot_level_differences(path: Path, series: dict[str, list[float | None]],
+                           tolerances: dict[str, float], title: str) -> None:
+    """``granflow converge``: the change of each quantity from one level to the next on a
+    log axis, one line per quantity, its tolerance dotted in the same colour (a missing or
+    zero change leaves a gap; a quantity with none is not drawn)."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for i, (name, values) in enumerate(series.items()):
+        x = np.arange(1, len(values) + 1)
+        y = np.array([np.nan if v is None or v <= 0 else v for v in values], dtype=float)
+        color = f"C{i}"
+        if np.isfinite(y).any():
+            ax.semilogy(x, y, "o-", color=color, label=name)
+            if name in tolerances:
+                ax.axhline(tolerances[name], color=color, ls=":", lw=1)
+        ax.set_xticks(x, [f"{k - 1}-{k}" for k in x])
+    ax.set_xlabel("levels compared")
+    ax.set_ylabel("|change| (dotted: tolerance)")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    save_figure(fig, path)
