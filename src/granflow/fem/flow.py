@@ -1,4 +1,5 @@
-"""The discrete flow state on one mesh and its implicit-Euler step (paper section 3.1)."""
+"""The discrete flow state on one mesh and its time step (paper section 3.1): the terms of
+(3.2), the time scheme's history and inertia (``fem/time_scheme.py``), the nonlinear solve."""
 
 from __future__ import annotations
 
@@ -30,9 +31,8 @@ from granflow.fem.nonlinear import (
 )
 from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
+from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
-
-SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 
 
 class FlowSolver:
@@ -49,7 +49,7 @@ class FlowSolver:
                  linear_solver: str = "umfpack", initial_guess: str = "previous",
                  surface_tension_on: str | None = None,
                  side_walls: SideWallFriction | None = None,
-                 augmentation: float | None = None) -> None:
+                 augmentation: float | None = None, scheme: str = "implicit-euler") -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -57,11 +57,11 @@ class FlowSolver:
         self.density = density
         self.space = taylor_hood(mesh, periodic=periodic, dirichlet=dirichlet)
         self.solution = ngs.GridFunction(self.space)    # (u^{n+1,k}, p^{n+1,k})
-        self.previous = ngs.GridFunction(self.space)    # (u^n, p^n)
+        self.scheme: TimeScheme = time_scheme(scheme, self.space, density)
+        self.previous = self.scheme.previous                # (u^n, p^n)
+        self.before_previous = self.scheme.before_previous  # (u^{n-1}, p^{n-1})
+        self.dt = self.scheme.dt
         self.mesh_velocity = ngs.GridFunction(vector_p2(mesh))
-        self.dt = ngs.Parameter(1.0)
-        self.before_previous = ngs.GridFunction(self.space)   # (u^{n-1}, p^{n-1})
-        self.dt_previous = 0.0                  # t^n - t^{n-1}; 0 = no history yet
         self.extrapolation_won = True           # "auto": which guess predicted the last step
         # gamma of (2.11)/(3.8) at the vertices, on the boundary ``surface_tension_on``
         self.surface_tension = ngs.GridFunction(ngs.H1(mesh, order=1))
@@ -77,7 +77,7 @@ class FlowSolver:
             stress = AugmentedStress(rheology, self.augmentation, self.strain,
                                      self.multiplier)
         self.terms = momentum_terms(
-            density=density, dt=self.dt, previous=self.previous.components[0],
+            density=density, inertia=self.scheme.inertia(),
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
             walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls,
             stress=stress)
@@ -100,6 +100,11 @@ class FlowSolver:
             rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
 
     @property
+    def dt_previous(self) -> float:
+        """t^n - t^{n-1} of the history (0: none yet)."""
+        return self.scheme.dt_previous
+
+    @property
     def velocity(self) -> ngs.CoefficientFunction:
         return self.previous.components[0]
 
@@ -113,14 +118,13 @@ class FlowSolver:
         self.previous.components[0].Set(velocity)
         self.previous.components[1].Set(pressure)
         self.solution.vec.data = self.previous.vec
-        self.before_previous.vec.data = self.previous.vec
-        self.dt_previous = 0.0
+        self.scheme.set_initial()
 
     def solve_step(self, dt: float, tol: float, max_iterations: int,
                    velocity_floor: float = 0.0) -> IterationReport:
         """(u^{n+1}, p^{n+1}) on the already-moved mesh, from the first iterate of
         ``first_iterate_extrapolated``."""
-        self.dt.Set(dt)
+        self.scheme.begin_step(dt)
         if self.first_iterate_extrapolated():
             self.predict(dt, self.solution)
         else:
@@ -150,28 +154,29 @@ class FlowSolver:
                                                         and self.augmented is None)
 
     def predict(self, dt: float, out: ngs.GridFunction) -> None:
-        """Linear extrapolation x^n + dt (x^n - x^{n-1}) / dt_{n-1} (x^n without history)."""
-        out.vec.data = self.previous.vec
-        if self.dt_previous > 0:
-            ratio = dt / self.dt_previous
-            out.vec.data += ratio * self.previous.vec
-            out.vec.data -= ratio * self.before_previous.vec
+        """The time scheme's extrapolation of the history to t^n + dt."""
+        self.scheme.predict(dt, out)
 
     def local_error(self, dt: float) -> tuple[float, float] | None:
         """(estimated local velocity error of the step, velocity scale), RMS over the domain.
 
-        Implicit Euler's local error is dt^2/2 u''; the step's difference from the linear
-        extrapolation of the last two steps, u^{n+1} - u_pred = dt (2 dt + dt_prev) / 2 u'',
-        measures it: error = dt / (2 dt + dt_prev) ||u^{n+1} - u_pred||. None before two
-        steps exist. Velocities are compared node by node: they are carried by the moving
-        mesh, so this is the error along the mesh trajectories, as the scheme (3.2) steps.
+        Milne's device (``fem/time_scheme.py``): the step's difference from the scheme's
+        polynomial predictor through the history, times the share of it that is the
+        scheme's local error. For implicit Euler, whose local error is dt^2/2 u'', the
+        linear extrapolation of the last two steps misses by dt (2 dt + dt_prev) / 2 u'', so
+        error = dt / (2 dt + dt_prev) ||u^{n+1} - u_pred||. None before two steps exist.
+        Velocities are compared node by node: they are carried by the moving mesh, so this
+        is the error along the mesh trajectories, as the scheme (3.2) steps.
         """
-        if self.dt_previous <= 0:
+        guess = self.nonlinear.scratch
+        factor = self.scheme.error_predictor(dt, guess)
+        if factor is None:
             return None
         root_area = math.sqrt(self.volume())
-        difference = self._miss(dt, extrapolated=True)
+        guess.vec.data -= self.solution.vec
+        difference = self.nonlinear.velocity_l2(guess.vec)
         speed = self.nonlinear.velocity_l2(self.solution.vec)
-        return dt / (2 * dt + self.dt_previous) * difference / root_area, speed / root_area
+        return factor * difference / root_area, speed / root_area
 
     def _miss(self, dt: float, extrapolated: bool) -> float:
         """||u^{n+1} - guess|| (velocity, L2) for the extrapolated guess or for u^n."""
@@ -194,14 +199,7 @@ class FlowSolver:
         if self.initial_guess == "auto" and dt is not None and self.dt_previous > 0:
             self.extrapolation_won = (self._miss(dt, extrapolated=True)
                                       <= self._miss(dt, extrapolated=False))
-        if dt is None:
-            self.dt_previous = 0.0
-        elif self.dt_previous > 0 and dt < SHORT_STEP * self.dt_previous:
-            self.dt_previous += dt                   # keep u^{n-1}: a longer baseline
-        else:
-            self.before_previous.vec.data = self.previous.vec
-            self.dt_previous = dt
-        self.previous.vec.data = self.solution.vec
+        self.scheme.accept(self.solution, dt)
         if self.augmented is not None:
             self.augmented.remember()
 
@@ -215,10 +213,8 @@ class FlowSolver:
     def save_history(self) -> dict[str, object]:
         """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the
         augmented Lagrangian's d and lambda, its next step's starting point)."""
-        state: dict[str, object] = {
-            "previous": self.previous.vec.FV().NumPy().copy(),
-            "before_previous": self.before_previous.vec.FV().NumPy().copy(),
-            "dt_previous": self.dt_previous, "extrapolation_won": self.extrapolation_won}
+        state: dict[str, object] = self.scheme.save() | {
+            "extrapolation_won": self.extrapolation_won}
         if self.augmented is not None:
             state["strain"] = self.strain.vec.FV().NumPy().copy()
             state["multiplier"] = self.multiplier.vec.FV().NumPy().copy()
@@ -227,9 +223,7 @@ class FlowSolver:
 
     def restore_history(self, state: dict[str, object]) -> None:
         """Inverse of ``save_history`` on a solver built on the same mesh."""
-        self.previous.vec.FV().NumPy()[:] = state["previous"]
-        self.before_previous.vec.FV().NumPy()[:] = state["before_previous"]
-        self.dt_previous = float(state["dt_previous"])  # type: ignore[arg-type]
+        self.scheme.restore(state)
         self.extrapolation_won = bool(state.get("extrapolation_won", True))
         self.solution.vec.data = self.previous.vec
         if self.augmented is not None:

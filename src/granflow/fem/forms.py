@@ -1,7 +1,7 @@
 """Terms of the momentum and mass equations (2.17), (3.2), each stated once for Picard
 and Newton.
 
-A term gives its contribution to the residual R(u, p; v, q) of one implicit-Euler step.
+A term gives its contribution to the residual R(u, p; v, q) of one time step.
 Its nonlinear coefficients (effective viscosity, friction drag, convecting velocity) are
 evaluated at a *linearisation point* (u_lin, p_lin):
 
@@ -96,6 +96,24 @@ class Inertia:
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         return self.density / self.dt * self.previous * s.v * ngs.dx
+
+
+@dataclass(frozen=True)
+class BackwardDifferenceInertia:
+    """rho (a0 u - h) / dt . v: the inertia of a multistep scheme (``fem/time_scheme.py``),
+    h = a1 u^n - a2 u^{n-1} its known history carried by the moving nodes."""
+
+    density: float
+    dt: ngs.Parameter
+    a0: ngs.Parameter
+    history: ngs.CoefficientFunction
+    step_constant = True
+
+    def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density * self.a0 / self.dt * s.u * s.v * ngs.dx
+
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
+        return self.density / self.dt * self.history * s.v * ngs.dx
 
 
 @dataclass(frozen=True)
@@ -248,7 +266,7 @@ class SurfaceTraction:
         return self.gamma * (s.v * n) * ngs.ds(definedon=mesh.Boundaries(self.region))
 
 
-def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.CoefficientFunction,
+def momentum_terms(*, density: float, inertia: Term,
                    mesh_velocity: ngs.CoefficientFunction, rheology: Rheology,
                    body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
                    penalty: float = 0.0,
@@ -256,10 +274,11 @@ def momentum_terms(*, density: float, dt: ngs.Parameter, previous: ngs.Coefficie
                    side_walls: SideWallFriction | None = None,
                    stress: StressTerm | None = None) -> list[Term]:
     """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension,
-    and the drag of a channel's side walls); ``stress`` replaces the regularised law (the
-    augmented Lagrangian's)."""
+    and the drag of a channel's side walls); ``inertia`` is the time scheme's
+    (``fem/time_scheme.py``), ``stress`` replaces the regularised law (the augmented
+    Lagrangian's)."""
     stress = stress or ViscoplasticStress(rheology)
-    terms: list[Term] = [Inertia(density, dt, previous), Convection(density, mesh_velocity),
+    terms: list[Term] = [inertia, Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
     for wall in walls:
         terms += [CoulombWallFriction(wall, stress, penalty), NormalPenalty(wall.region, penalty)]

@@ -88,10 +88,7 @@ class ColumnCollapse:
         self.remesh_restored.append(remeshed.area_restored)
         self.unrecorded_change += change
         transfer = StateTransfer(solver.space, [BED, WALL, END], self.config.boundary.penalty)
-        transfer.apply(old_solver.previous, solver.previous)
-        if old_solver.dt_previous > 0:
-            transfer.apply(old_solver.before_previous, solver.before_previous)
-            solver.dt_previous = old_solver.dt_previous
+        solver.scheme.inherit(old_solver.scheme, transfer.apply)
         solver.solution.vec.data = solver.previous.vec
         solver.extrapolation_won = old_solver.extrapolation_won
         if old_solver.augmented is not None:     # the augmented Lagrangian's warm start
@@ -345,7 +342,8 @@ def _flow_and_motion(config: Config, mesh: ngs.Mesh) -> tuple[FlowSolver, Column
                         initial_guess=num.initial_guess,
                         surface_tension_on=SURFACE if st.enabled else None,
                         side_walls=build_side_walls(config),
-                        augmentation=augmentation(config))
+                        augmentation=augmentation(config),
+                        scheme=config.time.scheme)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg) if st.enabled else None)

@@ -108,12 +108,12 @@ MIN_SHRINK = 0.2   # per rejected or accepted step
 
 @dataclass
 class AdaptiveStep:
-    """Implicit Euler steps sized by a local error estimate (elementary controller).
+    """Steps sized by a local error estimate (elementary controller).
 
     The error of a step is its estimated local velocity error (``FlowSolver.local_error``)
     over error_tol * max(RMS speed, error_floor): a step is accepted when it is at most 1,
-    and the next dt is
-    dt * SAFETY / sqrt(error) (implicit Euler's local error grows as dt^2), kept within
+    and the next dt is dt * SAFETY / error^(1/(q+1)) for a scheme of order q (the local
+    error grows as dt^(q+1): sqrt for implicit Euler), kept within
     [MIN_SHRINK, MAX_GROWTH] times the last step and within [dt_min, dt_max]. A step whose
     nonlinear solve failed is retried at half its size. Steps shortened by a stop or a
     landing do not shrink the controller's dt unless their error asks for it.
@@ -128,6 +128,7 @@ class AdaptiveStep:
     stops: list[float] = field(default_factory=list)
     dt_min: float = DT_FLOOR
     step_key: str = "time.error_tol or time.dt_max"
+    order: int = 1                    # of the time scheme
     dt: float = field(init=False)
 
     def __post_init__(self) -> None:
@@ -151,15 +152,15 @@ class AdaptiveStep:
         error = self.error(estimate)
         return error is None or error <= 1.0
 
-    @staticmethod
-    def _factor(error: float | None) -> float:
+    def _factor(self, error: float | None) -> float:
         if error is None:
             return MAX_GROWTH
         if not math.isfinite(error):
             return MIN_SHRINK
         if error <= 0:
             return MAX_GROWTH
-        return min(MAX_GROWTH, max(MIN_SHRINK, SAFETY / math.sqrt(error)))
+        root = math.sqrt(error) if self.order == 1 else error ** (1.0 / (self.order + 1))
+        return min(MAX_GROWTH, max(MIN_SHRINK, SAFETY / root))
 
     def accepted(self, dt: float, estimate: LocalError | None = None) -> None:
         factor = self._factor(self.error(estimate))
@@ -202,6 +203,7 @@ def step_policy(config: Config) -> StepPolicy:
         return fixed_step(tm.t_end, tm.dt, num.tol, stops)
     if tm.adaptive:
         return AdaptiveStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, tol=num.tol,
-                            error_tol=tm.error_tol, error_floor=tm.error_floor, stops=stops)
+                            error_tol=tm.error_tol, error_floor=tm.error_floor, stops=stops,
+                            order=2 if tm.scheme == "bdf2" else 1)
     return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
                       tol=num.tol, tol_init=num.tol_init or num.tol, stops=stops)
