@@ -1,14 +1,16 @@
-"""Benchmark (issue 13): the paper's algorithm (A) against the default fast path (B), back
-to back in one invocation, on the same mesh.
+"""Benchmark: the paper's algorithm (A) against the default fast path (B), back to back in
+one invocation, on the same mesh.
 
-Run: python benchmarks/speed.py [--cases trapezoid rectangle plug-flow stall ...]
-         [--repeat N] [--today] [--half-step] [--out benchmarks/results/speed]
+Run: python benchmarks/speed.py [--cases trapezoid rectangle erodible plug-flow stall ...]
+         [--repeat N] [--process] [--today] [--half-step] [--out benchmarks/results/speed]
 
 A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.1
 (dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh
 treatment (quality remeshing) and linear solver as B. B is granflow's default. With
---today, A0 is also run: issue 9's verified algorithm and code path (no quality remeshing,
-UMFPACK), the baseline users had before issue 13. With --half-step, A_half (A with
+--process, B is also run as a user runs it (`granflow run SCENARIO` in a new process, figures
+and animation included) and that whole wall time is reported beside the time loop's. With
+--today, A0 is also run: the first verified algorithm and code path (no quality remeshing,
+UMFPACK). With --half-step, A_half (A with
 dt_max = 5e-5) is also run and A and B are compared with it: it tells whose error a
 distance between B and A is. For each case the JSON holds the
 summaries, the wall-time ratio A/B (median over the repeats), the linear solves, and for
@@ -22,7 +24,9 @@ import argparse
 import json
 import shutil
 import statistics
+import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -38,17 +42,18 @@ PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1
          "numerics.initial_guess=previous",
          "time.stop_at_rest=false"]
 PAPER_TO_REST = [o for o in PAPER if not o.startswith("time.stop_at_rest")]
-# issue 9's verified runs: the paper's algorithm without quality remeshing, with UMFPACK
+# the first verified runs: the paper's algorithm without quality remeshing, with UMFPACK
 TODAY = ["mesh.remesh_quality=0", "numerics.linear_solver=umfpack"]
 PLUG_PAPER = ["numerics.linearization=picard"]           # the plug flow's fixed dt and tol
 CASES: dict[str, tuple[str, list[str], list[str]]] = {
     # name: (scenario, overrides of both, overrides of A only)
     "trapezoid": ("trapezoid-rigid", [], PAPER),
     "rectangle": ("rectangle-rigid", [], PAPER),
+    "erodible": ("trapezoid-erodible", [], PAPER),     # A takes hours: run it on its own
     "plug-flow": ("plug-flow", ["numerics.eps=1e-6", "mesh.size=0.125", "time.t_end=0.2"],
                   PLUG_PAPER),
-    # the column that stalled the fixed-point iteration near rest (issue 13)
-    # rectangles of l0 = 10 cm, h0/l0 = 0.5, 1, 2 (issue 13), both algorithms to rest
+    # the column that stalled the fixed-point iteration near rest, and rectangles of
+    # l0 = 10 cm, h0/l0 = 0.5, 1, 2, both algorithms to rest
     "stall": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.05",
                                   "time.t_end=2", "time.output_times=[0.1,0.2,0.3]"],
               PAPER_TO_REST),
@@ -75,6 +80,19 @@ def run(scenario: str, overrides: list[str], out: Path) -> dict:
     return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
 
 
+def run_process(scenario: str, overrides: list[str], out: Path) -> dict:
+    """B as a user runs it: `granflow run` in a new process; its whole wall time."""
+    sets = [arg for o in overrides for arg in ("--set", o)]
+    command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out), "--force",
+               "--quiet", *sets]
+    start = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    wall = time.perf_counter() - start
+    summary = json.loads((out / "summary.json").read_text())
+    return {"process_wall_time_s": wall, "loop_wall_time_s": summary["wall_time_s"],
+            "status": summary["status"], "stop_time_s": summary.get("stop_time_s")}
+
+
 def surfaces(a: Path, b: Path) -> dict[str, dict[str, float]]:
     """Mean and max distance (m) between the free surfaces of two runs at each output."""
     out = {}
@@ -89,7 +107,7 @@ def surfaces(a: Path, b: Path) -> dict[str, dict[str, float]]:
 
 
 def compare(name: str, repeat: int, out: Path, today: bool = False,
-            half_step: bool = False) -> dict:
+            half_step: bool = False, process: bool = False) -> dict:
     scenario, common, paper = CASES[name]
     result: dict = {"scenario": scenario, "common_overrides": common, "A_overrides": paper}
     variants = [("A", paper), ("B", [])]
@@ -106,10 +124,17 @@ def compare(name: str, repeat: int, out: Path, today: bool = False,
             print(name, label, k, json.dumps({x: summary[x] for x in (
                 "status", "steps", "linear_solves", "wall_time_s", "stop_time_s",
                 "runout_m", "velocity_relative_error_l2")}), flush=True)
+        if process:
+            timing = run_process(scenario, common, out / name / f"B_process{k}")
+            result.setdefault("B_process", []).append(timing)
+            print(name, "B as a process", k, json.dumps(timing), flush=True)
     a, b = result["A"], result["B"]
     result["wall_time_median_s"] = {k: statistics.median(v) for k, v in walls.items()}
     result["wall_times_s"] = walls
     result["speedup"] = result["wall_time_median_s"]["A"] / result["wall_time_median_s"]["B"]
+    if process:
+        result["B_process_wall_time_median_s"] = statistics.median(
+            t["process_wall_time_s"] for t in result["B_process"])
     if "A0" in walls:
         result["speedup_vs_today"] = (result["wall_time_median_s"]["A0"]
                                       / result["wall_time_median_s"]["B"])
@@ -132,17 +157,26 @@ def main(argv: list[str]) -> None:
                         choices=sorted(CASES))
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed"))
+    parser.add_argument("--process", action="store_true",
+                        help="also time B as `granflow run` in its own process, outputs included")
     parser.add_argument("--today", action="store_true",
-                        help="also run issue 9's verified path (no quality remesh, UMFPACK)")
+                        help="also run the first verified path (no quality remesh, UMFPACK)")
     parser.add_argument("--half-step", action="store_true",
                         help="also run A with dt_max = 5e-5 and compare A and B with it")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    table = ["| case | A loop (s) | B loop (s) | B process (s) | A/B | solves A / B |",
+             "|---|---|---|---|---|---|"]
     for name in args.cases:
-        result = compare(name, args.repeat, args.out / "runs", args.today, args.half_step)
+        result = compare(name, args.repeat, args.out / "runs", args.today, args.half_step,
+                         args.process)
         atomic_write_text(args.out / f"{name}.json", json.dumps(result, indent=2))
-        print(name, "speed-up A/B", round(result["speedup"], 2), "solves",
-              result["A"]["linear_solves"], "/", result["B"]["linear_solves"], flush=True)
+        medians = result["wall_time_median_s"]
+        whole = result.get("B_process_wall_time_median_s")
+        table.append(f"| {name} | {medians['A']:.1f} | {medians['B']:.1f} | "
+                     f"{'-' if whole is None else f'{whole:.1f}'} | {result['speedup']:.2f} | "
+                     f"{result['A']['linear_solves']} / {result['B']['linear_solves']} |")
+    print("\n".join(table))
 
 
 if __name__ == "__main__":

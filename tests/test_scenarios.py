@@ -35,6 +35,7 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
     assert proc.returncode == 0, proc.stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "completed", summary["message"]
+    assert summary["linear_solver"] in ("umfpack", "pardiso")   # the solver the run used
     for key in ("t_final", "steps", "rejected_steps", "nonlinear_iterations", "linear_solves",
                 "wall_time_s", "stop_time_s", "runout_m", "volume_relative_error",
                 "n_triangles", "n_dofs"):
@@ -77,3 +78,13 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
     again = run_cli(tmp_path, "plot", str(out))
     assert again.returncode == 0, again.stderr
     assert sorted(p.name for p in (out / "plots").iterdir()) == figures
+
+
+def test_a_run_says_once_which_sparse_solver_it_uses(tmp_path: Path) -> None:
+    overrides = [a for s in SHORT["plug-flow"] for a in ("--set", s)]
+    proc = run_cli(tmp_path, "run", "plug-flow", *overrides, "--set", "output.progress=false",
+                   "--out", str(tmp_path / "run"))
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.count("sparse LU: ") == 1, proc.stdout
+    used = json.loads((tmp_path / "run" / "summary.json").read_text())["linear_solver"]
+    assert used.upper() in proc.stdout

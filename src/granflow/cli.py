@@ -198,10 +198,21 @@ def _run(args: argparse.Namespace) -> int:
     with run_dir.lock():
         run_dir.write_text("config.toml", config_to_toml(config))
         if not args.quiet:
-            print(f"granflow: running {label} into {run_dir.root}")
+            print(f"granflow: running {label} into {run_dir.root} "
+                  f"(sparse LU: {_solver_label(config)})")
         summary = run_simulation(config, run_dir,
                                  progress=config.output.progress and not args.quiet)
     return _report(summary, run_dir)
+
+
+def _solver_label(config: Config) -> str:
+    """The direct solver the run will use, as logged once at its start."""
+    from granflow.fem.linalg import direct_solver
+
+    solver = direct_solver(config.numerics.linear_solver)
+    if solver == "umfpack" and config.numerics.linear_solver == "auto":
+        return "UMFPACK; PARDISO with pip install 'granflow[fast]'"
+    return solver.upper()
 
 
 def _resume(args: argparse.Namespace) -> int:

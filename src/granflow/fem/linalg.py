@@ -53,6 +53,14 @@ def direct_solver(choice: str = "auto") -> str:
     return choice
 
 
+def solver_in_use(choice: str = "auto") -> str:
+    """``direct_solver`` for reports (summary.json): never raises, says "unavailable"."""
+    try:
+        return direct_solver(choice)
+    except RuntimeError:
+        return f"{choice} (unavailable)"
+
+
 class ReusableLU:
     """Sparse LU (UMFPACK or PARDISO) factorisation of ``form.mat`` whose symbolic analysis is kept.
 

@@ -23,6 +23,7 @@ import numpy as np
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED, state_measures
 from granflow.fem.flow import FlowSolver
+from granflow.fem.linalg import solver_in_use
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.checkpoint import write_checkpoint
 from granflow.io.frames import write_frame
@@ -96,7 +97,8 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
 
 
 def _summary_head(config: Config, status: str, message: str) -> dict[str, Any]:
-    return {"scenario": config.scenario, "status": status, "message": message}
+    return {"scenario": config.scenario, "status": status, "message": message,
+            "linear_solver": solver_in_use(config.numerics.linear_solver)}
 
 
 def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[str, Any]:
