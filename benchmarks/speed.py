@@ -68,7 +68,7 @@ KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
         "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
         "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",
         "n_triangles", "remeshes", "min_triangle_quality", "velocity_relative_error_l2",
-        "outputs_at_rest"]
+        "outputs_at_rest", "linear_solver"]
 
 
 def run(scenario: str, overrides: list[str], out: Path) -> dict:

@@ -211,7 +211,7 @@ def _solver_label(config: Config) -> str:
 
     solver = direct_solver(config.numerics.linear_solver)
     if solver == "umfpack" and config.numerics.linear_solver == "auto":
-        return "UMFPACK; PARDISO with pip install 'granflow[fast]'"
+        return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
     return solver.upper()
 
 
@@ -324,7 +324,7 @@ def _check_solver(config: Config) -> None:
 
         if not pardiso_available():
             raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
-                              "'granflow[fast]'); use 'auto' or 'umfpack'")
+                              "mkl, x86-64 only); use 'auto' or 'umfpack'")
 
 
 def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
