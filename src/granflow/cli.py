@@ -93,12 +93,15 @@ def _parser() -> argparse.ArgumentParser:
 
     p = commands.add_parser(
         "resume", help="continue an interrupted, killed or failed run from its checkpoint",
-        description="Continue the run in RUN_DIR from checkpoint/state.pkl, with the "
+        description="Continue the run in RUN_DIR from checkpoint/state.npz, with the "
                     "configuration in RUN_DIR/config.toml.")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    help="change a key before continuing, e.g. --set time.dt_max=5e-4 after a "
                         "failure (the step policy then restarts from the new configuration)")
+    p.add_argument("--allow-pickle", action="store_true",
+                   help="also read a checkpoint of granflow 0.1 (checkpoint/state.pkl): a "
+                        "pickle can execute code, so only for run directories you wrote")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_resume)
 
@@ -229,7 +232,7 @@ def _resume(args: argparse.Namespace) -> int:
 
     run_dir = RunDir(root)
     with run_dir.lock():   # refuse before reading: the run may still be writing it
-        state = read_checkpoint(root)
+        state = read_checkpoint(root, allow_pickle=args.allow_pickle)
         if args.overrides:
             state.loop["steps_policy"] = None    # rebuilt from the changed configuration
             run_dir.write_text("config.toml", config_to_toml(config))
