@@ -104,7 +104,7 @@ def test_sigint_checkpoints_and_resumes_and_a_running_directory_is_refused(
     proc.send_signal(signal.SIGINT)
     assert proc.wait(timeout=120) == 130
     interrupted = summary(out)
-    assert interrupted["status"] == "interrupted" and (out / "checkpoint/state.pkl").is_file()
+    assert interrupted["status"] == "interrupted" and (out / "checkpoint/state.npz").is_file()
     assert interrupted["steps"] < reference["steps"]
     assert final_front(out) == pytest.approx(interrupted["runout_m"], abs=1e-12)  # where it stood
     assert interrupted["final_profiles_t"] == interrupted["t_final"]

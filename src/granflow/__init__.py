@@ -7,9 +7,23 @@ that need it.
 
 import os
 
-# One BLAS thread: on these 2D problems extra threads only contend (DESIGN.md, measured
-# facts); set before numpy or NGSolve load OpenBLAS. An explicit user setting wins.
+# One BLAS thread: on these 2D problems extra threads only contend (measured, see
+# docs/performance.md); set before numpy or NGSolve load OpenBLAS. An explicit user setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")    # PARDISO (MKL): one thread, like NGSolve
 
 __version__ = "0.1.0"
+
+__all__ = ["Config", "Run", "Summary", "load", "run", "__version__"]
+_API = {"run": "granflow.api", "load": "granflow.api", "Run": "granflow.api",
+        "Summary": "granflow.api", "Config": "granflow.config"}
+
+
+def __getattr__(name: str) -> object:
+    """``granflow.run``, ``granflow.load``, ``granflow.Config``...: imported on first use,
+    so that ``import granflow`` (and the command line) stays fast."""
+    if name in _API:
+        import importlib
+
+        return getattr(importlib.import_module(_API[name]), name)
+    raise AttributeError(f"module 'granflow' has no attribute {name!r}")

@@ -19,13 +19,13 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from granflow import __version__
-from granflow.config import CUSTOM, Config, ConfigError, config_to_toml, load_config
+from granflow.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
+from granflow.config import ConfigError, config_to_toml, load_config
 from granflow.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -41,8 +41,6 @@ from granflow.scenarios.registry import builtin_scenarios
 from granflow.sweep import SweepError
 
 DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without an argument
-RUNS_FOLDER = Path("runs")
-OK_STATUSES = ("completed", "stopped")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -93,12 +91,15 @@ def _parser() -> argparse.ArgumentParser:
 
     p = commands.add_parser(
         "resume", help="continue an interrupted, killed or failed run from its checkpoint",
-        description="Continue the run in RUN_DIR from checkpoint/state.pkl, with the "
+        description="Continue the run in RUN_DIR from checkpoint/state.npz, with the "
                     "configuration in RUN_DIR/config.toml.")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    help="change a key before continuing, e.g. --set time.dt_max=5e-4 after a "
                         "failure (the step policy then restarts from the new configuration)")
+    p.add_argument("--allow-pickle", action="store_true",
+                   help="also read a checkpoint of granflow 0.1 (checkpoint/state.pkl): a "
+                        "pickle can execute code, so only for run directories you wrote")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_resume)
 
@@ -188,31 +189,11 @@ def _scenarios(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    config = load_config(args.scenario, args.overrides)  # validate before creating anything
-    _check_solver(config)
-    from granflow.simulation.runner import run_simulation
+    from granflow.api import run
 
-    label = Path(args.scenario).stem if config.scenario == CUSTOM else config.scenario
-    run_dir = RunDir.create(args.out if args.out is not None else _fresh_folder(label),
-                            force=args.force)
-    with run_dir.lock():
-        run_dir.write_text("config.toml", config_to_toml(config))
-        if not args.quiet:
-            print(f"granflow: running {label} into {run_dir.root} "
-                  f"(sparse LU: {_solver_label(config)})")
-        summary = run_simulation(config, run_dir,
-                                 progress=config.output.progress and not args.quiet)
-    return _report(summary, run_dir)
-
-
-def _solver_label(config: Config) -> str:
-    """The direct solver the run will use, as logged once at its start."""
-    from granflow.fem.linalg import direct_solver
-
-    solver = direct_solver(config.numerics.linear_solver)
-    if solver == "umfpack" and config.numerics.linear_solver == "auto":
-        return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
-    return solver.upper()
+    result = run(args.scenario, args.overrides, args.out, force=args.force,
+                 progress=not args.quiet, log=None if args.quiet else print)
+    return _report(RunDir.summary(result.root), RunDir(result.root))
 
 
 def _resume(args: argparse.Namespace) -> int:
@@ -223,13 +204,13 @@ def _resume(args: argparse.Namespace) -> int:
     if status in OK_STATUSES:
         raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
     config = load_config(str(root / "config.toml"), args.overrides)
-    _check_solver(config)
+    check_solver(config)
     from granflow.io.checkpoint import read_checkpoint
     from granflow.simulation.runner import run_simulation
 
     run_dir = RunDir(root)
     with run_dir.lock():   # refuse before reading: the run may still be writing it
-        state = read_checkpoint(root)
+        state = read_checkpoint(root, allow_pickle=args.allow_pickle)
         if args.overrides:
             state.loop["steps_policy"] = None    # rebuilt from the changed configuration
             run_dir.write_text("config.toml", config_to_toml(config))
@@ -298,7 +279,7 @@ def _converge(args: argparse.Namespace) -> int:
     if str(out).strip() == "":
         raise RunDirError("--out must name a folder for the study (got an empty path)")
     study.runs(out)                         # every level validated before any worker starts
-    _check_solver(load_config(args.scenario, args.overrides))
+    check_solver(load_config(args.scenario, args.overrides))
     with Cluster(args.scheduler, args.workers) as cluster:
         where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
         print(f"granflow: converge {study.label} in {args.mode}: {args.levels} levels on "
@@ -317,16 +298,6 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_solver(config: Config) -> None:
-    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
-    if config.numerics.linear_solver == "pardiso":
-        from granflow.fem.linalg import pardiso_available
-
-        if not pardiso_available():
-            raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
-                              "mkl, x86-64 only); use 'auto' or 'umfpack'")
-
-
 def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
     status = summary.get("status", "failed")
     print(f"{status}: t_final = {_num(summary.get('t_final'), '.6g')} s, "
@@ -340,7 +311,7 @@ def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
 def _verify(args: argparse.Namespace) -> int:
     from granflow.verify import BOUND, VOLUME_BOUND, verify_plug_flow
 
-    out = args.out or _fresh_folder(f"verify-{args.case}-table{args.table}")
+    out = args.out or fresh_folder(f"verify-{args.case}-table{args.table}")
     if args.workers > 1 or args.scheduler:
         from granflow.sweep import Cluster
 
@@ -361,13 +332,3 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _num(value: object, spec: str) -> str:
     return format(value, spec) if isinstance(value, int | float) else str(value)
-
-
-def _fresh_folder(label: str) -> Path:
-    """``runs/<label>-<YYYYmmdd-HHMMSS>``, with a suffix if two runs start in the same second."""
-    base = RUNS_FOLDER / f"{label}-{time.strftime('%Y%m%d-%H%M%S')}"
-    path, n = base, 1
-    while path.exists():
-        n += 1
-        path = base.with_name(f"{base.name}-{n}")
-    return path

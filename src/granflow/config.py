@@ -233,13 +233,21 @@ class Config(_Section):
             raise PydanticCustomError("granflow_config", "{message}", {"message": problem})
         return self
 
+    @classmethod
+    def load(cls, source: str | Path, overrides: Sequence[str] = ()) -> Config:
+        """A built-in scenario or a TOML file, resolved and validated (``load_config``)."""
+        return load_config(source, overrides)
+
+    def set(self, key: str, value: Any) -> Config:
+        """A new, validated configuration with ``key`` ("section.key") set to ``value``."""
+        return apply_overrides(self, [f"{key}={toml_literal(value)}"])
+
 
 SECTIONS: dict[str, type[_Section]] = {
     name: field.annotation
     for name, field in Config.model_fields.items()
     if isinstance(field.annotation, type) and issubclass(field.annotation, _Section)
 }
-
 
 
 # ---------------------------------------------------------------- loading and layering
@@ -261,12 +269,7 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
         _merge(data, layers[-1])
     explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
     _apply(data, overrides)
-    explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
-                               for o in overrides)
-    t_end, times = data["time"]["t_end"], data["time"]["output_times"]
-    if not explicit and _numbers(times) and _numbers([t_end]):
-        # inherited output times after a shortened t_end are dropped
-        data["time"]["output_times"] = [x for x in times if x <= t_end]
+    _drop_late_outputs(data, overrides, explicit)
     data["scenario"] = name
     config = _validate(data)
     changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
@@ -288,6 +291,15 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
     return config
 
 
+def _drop_late_outputs(data: dict[str, Any], overrides: Sequence[str], explicit: bool) -> None:
+    """Inherited output times after a shortened t_end are dropped (not those the user set)."""
+    explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
+                               for o in overrides)
+    t_end, times = data["time"]["t_end"], data["time"]["output_times"]
+    if not explicit and _numbers(times) and _numbers([t_end]):
+        data["time"]["output_times"] = [x for x in times if x <= t_end]
+
+
 def _numbers(values: Any) -> bool:
     return isinstance(values, list) and all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in values)
@@ -298,7 +310,13 @@ def apply_overrides(config: Config, overrides: Sequence[str]) -> Config:
     """A copy of ``config`` with ``section.key=value`` overrides applied and re-validated."""
     data = config.model_dump()
     _apply(data, overrides)
+    _drop_late_outputs(data, overrides, explicit=False)
     return _validate(data)
+
+
+def toml_literal(value: Any) -> str:
+    """``value`` as the TOML literal an override reads (None unsets: "none")."""
+    return '"none"' if value is None else tomli_w.dumps({"v": value}).partition("=")[2].strip()
 
 
 def config_to_toml(config: Config) -> str:

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import copy
 import math
-import pickle
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -104,10 +103,10 @@ class ColumnCollapse:
 
     # --- checkpoint (simulation/state.py) ---------------------------------------------
     def save_state(self) -> dict[str, Any]:
-        """The scenario's share of the run state: the mesh (pickled with its boundary
-        labels, which deposition changes), the flow history, the mover, the diagnostics
-        history (animation frames are files, ``frames/``)."""
-        return {"mesh": pickle.dumps(self.mesh), "fields": self.solver.save_history(),
+        """The scenario's share of the run state: the mesh (with its boundary labels, which
+        deposition changes), the flow history, the mover, the diagnostics history (animation
+        frames are files, ``frames/``)."""
+        return {"mesh": self.mesh, "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), "history": copy.deepcopy(self.history),
                 "remeshes": self.remeshes,
                 "fresh_quality": self.fresh_quality, "remesh_changes": list(self.remesh_changes),
@@ -116,7 +115,7 @@ class ColumnCollapse:
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
-        mesh = pickle.loads(state["mesh"])
+        mesh = state["mesh"]
         solver, mover = _flow_and_motion(self.config, mesh)
         solver.restore_history(state["fields"])
         mover.restore_state(state["mover"])

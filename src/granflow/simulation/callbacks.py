@@ -50,6 +50,7 @@ class ProgressBar:
     """A tqdm bar over simulated time showing dt, iterations and an ETA."""
 
     def __init__(self, t_end: float, enabled: bool = True, initial: float = 0.0) -> None:
+        self.enabled = enabled
         self.bar = tqdm(total=t_end, initial=initial, unit="s", disable=not enabled,
                         dynamic_ncols=True,
                         bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}<{remaining}]"
@@ -61,8 +62,16 @@ class ProgressBar:
         self.bar.set_postfix_str(
             f"dt={sim.dt:.2e} it={report.iterations if report else 0}", refresh=False)
 
-    def close(self) -> None:
+    def close(self, note: str = "") -> None:
+        """Close the bar with ``note`` after it (why it stopped short of t_end, say)."""
+        if note:
+            self.bar.set_postfix_str(note, refresh=True)
         self.bar.close()
+
+    def say(self, text: str) -> None:
+        """A line under the closed bar: what the run does next, so the screen is not silent."""
+        if self.enabled:
+            tqdm.write(text)
 
 
 class TimeInterval:

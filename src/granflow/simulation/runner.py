@@ -188,6 +188,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     if resume is None:
         write_fields(series, problem, 0.0)
     crashed: Exception | None = None
+    result: RunResult | None = None
     try:
         with _interrupts_to(sim):
             result = sim.run()
@@ -202,7 +203,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
                            sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
         run_dir.write_text("traceback.txt", traceback.format_exc())
     finally:
-        bar.close()
+        bar.close("at rest" if result is not None and result.status == "stopped" else "")
         log.close()
     final = _write_final_state(run_dir, problem, series, sim) if crashed is None else None
     at_rest = at_times.flush(sim) if result.status == "stopped" else []
@@ -228,6 +229,7 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     }
     summary |= problem.summary(result)
     run_dir.write_json("summary.json", summary)
+    bar.say(f"drawing the figures into {run_dir.path('plots')}")
     try:
         problem.plot(run_dir)
     except Exception as exc:  # a figure must never turn a finished run into a failure

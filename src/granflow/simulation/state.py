@@ -13,12 +13,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-STATE_VERSION = 1   # bump when the layout changes; older checkpoints are then refused
+STATE_VERSION = 2   # bump when the layout changes; older checkpoints are then refused
+                    # (1: the pickled checkpoints of granflow 0.1)
 
 
 @dataclass
 class SimulationState:
-    """Everything a resumed run needs (checkpoint/state.pkl, written by io/checkpoint.py)."""
+    """Everything a resumed run needs (checkpoint/state.npz, written by io/checkpoint.py)."""
 
     loop: dict[str, Any]       # Simulation.save_state(): t, dt, counters, policy, criteria
     scenario: dict[str, Any]   # the problem's save_state(): mesh, fields, mover, history

@@ -1,0 +1,299 @@
+"""The Python API: run a case into a run directory, or open one, and read its results.
+
+    import granflow
+    run = granflow.run("trapezoid-rigid", overrides={"mesh.size": 0.03}, out="runs/t1")
+    run.summary.stop_time_s, run.summary.runout_m
+    run.diagnostics                   # pandas DataFrame, one row per accepted step
+    run.surfaces                      # tidy DataFrame: t, kind, x, z
+    run.fields(0.3)                   # velocity, pressure, strain rate... at an output time
+    run.plot.free_surfaces()          # a matplotlib Axes
+    again = granflow.load("runs/t1")  # the same object from the run directory
+    cfg = granflow.Config.load("rectangle-rigid").set("geometry.height", 0.2)
+    granflow.run(cfg)                 # out=None: a fresh folder under runs/, as the CLI does
+
+Everything is read from the run directory's files (config.toml, summary.json,
+diagnostics.csv, profiles/, fields/), so a run written by the command line, by a sweep or
+by someone else opens the same way. The command line is a thin layer over ``run``.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from functools import cached_property
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+from xml.etree import ElementTree
+
+import numpy as np
+
+from granflow.config import (
+    CUSTOM,
+    Config,
+    ConfigError,
+    apply_overrides,
+    config_to_toml,
+    load_config,
+    toml_literal,
+)
+from granflow.io.run_dir import RunDir, RunDirError
+
+if TYPE_CHECKING:
+    import matplotlib.pyplot as plt
+    import pandas as pd
+
+RUNS_FOLDER = Path("runs")
+OK_STATUSES = ("completed", "stopped")
+
+
+@dataclass(frozen=True)
+class Summary:
+    """The headline results of a run (summary.json); every other key is in ``extra``."""
+
+    scenario: str
+    status: str                   # completed | stopped | interrupted | failed | running
+    message: str
+    t_final: float | None         # s, simulated time reached
+    stop_time_s: float | None     # s, when the mass came to rest (None: it did not)
+    runout_m: float | None        # m, front position at the end
+    steps: int | None
+    nonlinear_iterations: int | None
+    wall_time_s: float | None
+    linear_solver: str | None     # the sparse LU the run used
+    volume_relative_error: float | None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Summary:
+        names = [f.name for f in fields(cls) if f.name != "extra"]
+        known = {name: data.get(name) for name in names}
+        known["scenario"] = known["scenario"] or ""
+        known["status"] = known["status"] or "running"
+        known["message"] = known["message"] or ""
+        return cls(**known, extra={k: v for k, v in data.items() if k not in names})
+
+    @property
+    def ok(self) -> bool:
+        """True when the run finished (reached t_end or came to rest)."""
+        return self.status in OK_STATUSES
+
+
+@dataclass(frozen=True)
+class Fields:
+    """The finite-element fields of one VTU snapshot, at the mesh vertices and cells."""
+
+    t: float
+    points: np.ndarray                       # (n, 2) vertex coordinates, m
+    triangles: np.ndarray                    # (m, 3) vertex indices
+    point_data: dict[str, np.ndarray]        # e.g. velocity (n, 2), pressure (n,)
+    cell_data: dict[str, np.ndarray]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name in self.point_data:
+            return self.point_data[name]
+        if name in self.cell_data:
+            return self.cell_data[name]
+        raise KeyError(f"no field {name!r}; fields: "
+                       f"{', '.join([*self.point_data, *self.cell_data])}")
+
+
+class Run:
+    """A run directory opened for reading (see the module docstring)."""
+
+    def __init__(self, root: str | Path) -> None:
+        self.root = Path(root)
+        if not RunDir.is_run_dir(self.root):
+            raise RunDirError(f"'{self.root}' is not a granflow run directory "
+                              "(no config.toml)")
+
+    def __repr__(self) -> str:
+        return f"granflow.Run('{self.root}', status={self.summary.status!r})"
+
+    @cached_property
+    def config(self) -> Config:
+        """The resolved configuration the run used."""
+        return load_config(str(self.root / "config.toml"))
+
+    @property
+    def summary(self) -> Summary:
+        """The run's summary (re-read each time: a running run updates it at its end)."""
+        return Summary.from_dict(RunDir.summary(self.root))
+
+    @property
+    def diagnostics(self) -> pd.DataFrame:
+        """diagnostics.csv: one row per accepted step (t, dt, iterations, front, energy...)."""
+        import pandas as pd
+
+        return pd.read_csv(self.root / "diagnostics.csv")
+
+    @property
+    def surfaces(self) -> pd.DataFrame:
+        """Free surface and static/flowing interface at every output time, tidy: columns
+        t (s), kind ("free_surface" | "interface"), x (m), z (m). The last accepted state
+        (profiles/*_final.csv) has the time summary.json records for it."""
+        import pandas as pd
+
+        final_t = self.summary.extra.get("final_profiles_t")
+        frames = []
+        for kind in ("free_surface", "interface"):
+            for path in sorted((self.root / "profiles").glob(f"{kind}_*.csv")):
+                label = path.stem[len(kind) + 1:]
+                t = final_t if label == "final" else _time_of(label)
+                if t is None:
+                    continue
+                data = pd.read_csv(path)
+                frames.append(data.assign(t=float(t), kind=kind)[["t", "kind", "x", "z"]])
+        if not frames:
+            return pd.DataFrame(columns=["t", "kind", "x", "z"])
+        table = pd.concat(frames, ignore_index=True)
+        return table.drop_duplicates().sort_values(["kind", "t"], kind="stable",
+                                                   ignore_index=True)
+
+    @property
+    def output_times(self) -> list[float]:
+        """The times of the VTU snapshots in fields/ (fields.pvd)."""
+        return [t for t, _ in self._snapshots()]
+
+    def fields(self, t: float) -> Fields:
+        """The snapshot at time ``t`` (the nearest one within 1e-6 s)."""
+        import meshio
+
+        snapshots = self._snapshots()
+        if not snapshots:
+            raise RunDirError(f"'{self.root}' holds no field snapshots (fields/fields.pvd)")
+        nearest, name = min(snapshots, key=lambda item: abs(item[0] - t))
+        if abs(nearest - t) > 1e-6:
+            raise ValueError(f"no snapshot at t = {t:g} s; snapshots at "
+                             f"{', '.join(f'{s:g}' for s, _ in snapshots)} s")
+        mesh = meshio.read(self.root / "fields" / name)
+        return Fields(t=nearest, points=mesh.points[:, :2], triangles=mesh.cells_dict["triangle"],
+                      point_data={k: _planar(v) for k, v in mesh.point_data.items()},
+                      cell_data={k: v[0] for k, v in mesh.cell_data.items()})
+
+    @cached_property
+    def plot(self) -> RunPlots:
+        """Figures of this run: ``run.plot.free_surfaces()``, ``run.plot.all()``."""
+        return RunPlots(self)
+
+    def _snapshots(self) -> list[tuple[float, str]]:
+        index = self.root / "fields" / "fields.pvd"
+        if not index.is_file():
+            return []
+        tree = ElementTree.parse(index)
+        return [(float(e.get("timestep", "nan")), str(e.get("file")))
+                for e in tree.iter("DataSet") if e.get("file")]
+
+
+class RunPlots:
+    """Figures drawn from a run's files (the same files ``granflow plot`` reads)."""
+
+    def __init__(self, run: Run) -> None:
+        self._run = run
+
+    def free_surfaces(self, ax: plt.Axes | None = None) -> plt.Axes:
+        """The free surface at every output time (x and z in m, equal scales)."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 3))
+        surfaces = self._run.surfaces
+        for t, rows in surfaces[surfaces["kind"] == "free_surface"].groupby("t"):
+            ax.plot(rows["x"], rows["z"], label=f"t = {t:.3g} s")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("z (m)")
+        ax.set_aspect("equal")
+        ax.set_title(f"{self._run.summary.scenario}: free surface")
+        if len(ax.lines):
+            ax.legend(fontsize="small")
+        return ax
+
+    def all(self) -> list[Path]:
+        """Every figure of the run again, into RUN_DIR/plots; returns the files."""
+        from granflow.io.replot import plot_run
+
+        return plot_run(self._run.root)
+
+
+def run(case: str | Path | Config, overrides: Mapping[str, Any] | Sequence[str] | None = None,
+        out: str | Path | None = None, *, force: bool = False, progress: bool = False,
+        log: Callable[[str], None] | None = None) -> Run:
+    """Run ``case`` (a built-in scenario, a TOML file or a ``Config``) to its end.
+
+    ``overrides``: {"section.key": value} or ["section.key=value", ...]. ``out``: the run
+    directory (None: runs/<scenario>-<time>); ``force`` replaces a run already there.
+    ``log`` receives the one line that says where the run goes and with which solver.
+    A run that fails still returns: its ``summary.status`` and ``message`` say why.
+    """
+    config, label = _resolve(case, overrides)
+    check_solver(config)
+    from granflow.simulation.runner import run_simulation
+
+    run_dir = RunDir.create(Path(out) if out is not None else fresh_folder(label), force=force)
+    with run_dir.lock():
+        run_dir.write_text("config.toml", config_to_toml(config))
+        if log is not None:
+            log(f"granflow: running {label} into {run_dir.root} "
+                f"(sparse LU: {solver_label(config)})")
+        run_simulation(config, run_dir, progress=progress and config.output.progress)
+    return Run(run_dir.root)
+
+
+def load(path: str | Path) -> Run:
+    """Open the run directory ``path`` (finished, failed, interrupted or still running)."""
+    return Run(path)
+
+
+def check_solver(config: Config) -> None:
+    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
+    if config.numerics.linear_solver == "pardiso":
+        from granflow.fem.linalg import pardiso_available
+
+        if not pardiso_available():
+            raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
+                              "mkl, x86-64 only); use 'auto' or 'umfpack'")
+
+
+def solver_label(config: Config) -> str:
+    """The direct solver the run will use, as logged once at its start."""
+    from granflow.fem.linalg import direct_solver
+
+    solver = direct_solver(config.numerics.linear_solver)
+    if solver == "umfpack" and config.numerics.linear_solver == "auto":
+        return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
+    return solver.upper()
+
+
+def fresh_folder(label: str) -> Path:
+    """``runs/<label>-<YYYYmmdd-HHMMSS>``, with a suffix if two runs start in the same second."""
+    base = RUNS_FOLDER / f"{label}-{time.strftime('%Y%m%d-%H%M%S')}"
+    path, n = base, 1
+    while path.exists():
+        n += 1
+        path = base.with_name(f"{base.name}-{n}")
+    return path
+
+
+def _resolve(case: str | Path | Config,
+             overrides: Mapping[str, Any] | Sequence[str] | None) -> tuple[Config, str]:
+    """The validated configuration of ``case`` with ``overrides``, and its label."""
+    texts = ([f"{key}={toml_literal(value)}" for key, value in overrides.items()]
+             if isinstance(overrides, Mapping) else list(overrides or ()))
+    if isinstance(case, Config):
+        config = apply_overrides(case, texts) if texts else case
+        return config, "custom" if config.scenario == CUSTOM else config.scenario
+    config = load_config(str(case), texts)
+    return config, Path(str(case)).stem if config.scenario == CUSTOM else config.scenario
+
+
+def _time_of(label: str) -> float | None:
+    match = re.fullmatch(r"t([0-9.]+)", label)
+    return float(match.group(1)) if match else None
+
+
+def _planar(values: np.ndarray) -> np.ndarray:
+    """Vectors written as 3D for ParaView back to their two in-plane components."""
+    if values.ndim == 2 and values.shape[1] == 3 and not np.any(values[:, 2]):
+        return values[:, :2]
+    return values

@@ -1,0 +1,164 @@
+"""The checkpoint is data only: a real run state survives the round trip exactly, and a
+checkpoint from someone else cannot execute code when `granflow resume` reads it."""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import json
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+from granflow.config import config_to_toml, load_config
+from granflow.io.checkpoint import (
+    CHECKPOINT_FILE,
+    LEGACY_CHECKPOINT_FILE,
+    CheckpointError,
+    read_checkpoint,
+    write_checkpoint,
+)
+from granflow.io.run_dir import RunDir
+from granflow.simulation.runner import build_problem
+from granflow.simulation.state import SimulationState
+
+
+def assert_same(a: Any, b: Any, where: str = "state") -> None:
+    """Deep equality, exact: arrays bit for bit, meshes by vertices, cells and labels."""
+    if isinstance(a, ngs.Mesh):
+        assert isinstance(b, ngs.Mesh), where
+        assert np.array_equal(a.ngmesh.Coordinates(), b.ngmesh.Coordinates()), where
+        for vb in (ngs.VOL, ngs.BND):
+            cells = [([v.nr for v in el.vertices], el.mat) for el in a.Elements(vb)]
+            assert cells == [([v.nr for v in el.vertices], el.mat) for el in b.Elements(vb)]
+        assert a.GetBoundaries() == b.GetBoundaries(), where
+    elif isinstance(a, np.ndarray):
+        assert isinstance(b, np.ndarray) and a.dtype == b.dtype, where
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), where
+    elif isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys(), where
+        for k in a:
+            assert_same(a[k], b[k], f"{where}.{k}")
+    elif isinstance(a, list | tuple):
+        assert type(a) is type(b) and len(a) == len(b), where
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            assert_same(x, y, f"{where}[{i}]")
+    elif dataclasses.is_dataclass(a):
+        assert type(a) is type(b), where
+        assert_same(dict(vars(a)), dict(vars(b)), f"{where}:{type(a).__name__}")
+    elif isinstance(a, float) and np.isnan(a):
+        assert isinstance(b, float) and np.isnan(b), where
+    else:
+        assert a == b and type(a) is type(b), f"{where}: {a!r} != {b!r}"
+
+
+@pytest.fixture(scope="module")
+def state() -> SimulationState:
+    """The state of a coarse erodible collapse (surface tension and deposition on) after a
+    few steps, as the runner checkpoints it."""
+    config = load_config("trapezoid-erodible", ["mesh.size=0.05", "time.t_end=0.01",
+                                                "output.progress=false"])
+    problem = build_problem(config)
+    problem.simulation.run()
+    assert problem.simulation.step > 3
+    return SimulationState(loop=problem.simulation.save_state(),
+                           scenario=problem.save_state(),
+                           outputs={"volume0": 0.0629, "pending_times": [0.18, 0.3],
+                                    "vtk_entries": [(0.0, "fields_0000.vtu")],
+                                    "animation_next": None})
+
+
+def test_a_run_state_survives_the_round_trip_exactly(state: SimulationState,
+                                                     tmp_path: Path) -> None:
+    run_dir = RunDir.create(tmp_path / "run")
+    path = write_checkpoint(run_dir, state)
+    assert path == run_dir.path(CHECKPOINT_FILE)
+    back = read_checkpoint(run_dir.root)
+    assert back.version == state.version
+    assert_same(state.loop, back.loop, "loop")
+    assert_same(state.scenario, back.scenario, "scenario")
+    assert_same(state.outputs, back.outputs, "outputs")
+    with np.load(path, allow_pickle=False) as archive:   # loads without pickle at all
+        assert all(archive[name].dtype != object for name in archive.files)
+
+
+class _Payload:
+    """A pickle that creates a file when unpickled: what a hostile checkpoint could do."""
+
+    def __init__(self, marker: Path) -> None:
+        self.marker = marker
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Path.write_text, (self.marker, "executed"))
+
+
+def _run_dir_for_resume(root: Path) -> None:
+    """A run directory that `granflow resume` accepts up to reading its checkpoint."""
+    run_dir = RunDir.create(root)
+    run_dir.write_text("config.toml", config_to_toml(load_config("rectangle-rigid")))
+    run_dir.write_json("summary.json", {"status": "interrupted"})
+    (root / "checkpoint").mkdir(exist_ok=True)
+
+
+def test_an_old_pickled_checkpoint_is_refused_without_the_flag(tmp_path: Path) -> None:
+    root, marker = tmp_path / "received", tmp_path / "marker.txt"
+    _run_dir_for_resume(root)
+    (root / LEGACY_CHECKPOINT_FILE).write_bytes(pickle.dumps(_Payload(marker)))
+    with pytest.raises(CheckpointError, match="--allow-pickle"):
+        read_checkpoint(root)
+    done = subprocess.run([sys.executable, "-m", "granflow", "resume", str(root), "--quiet"],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode != 0 and "--allow-pickle" in done.stderr
+    assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert not marker.exists()
+    # with the flag the user takes the responsibility, and a foreign pickle is refused
+    with pytest.raises(CheckpointError):
+        read_checkpoint(root, allow_pickle=True)
+    assert marker.exists()   # ... after running, which is why the flag exists
+
+
+def test_an_old_pickled_checkpoint_is_read_with_the_flag(state: SimulationState,
+                                                         tmp_path: Path) -> None:
+    scenario = dict(state.scenario, mesh=pickle.dumps(state.scenario["mesh"]))
+    legacy = SimulationState(loop=state.loop, scenario=scenario, outputs=state.outputs,
+                             version=1)
+    (tmp_path / "checkpoint").mkdir()
+    (tmp_path / LEGACY_CHECKPOINT_FILE).write_bytes(pickle.dumps(legacy))
+    back = read_checkpoint(tmp_path, allow_pickle=True)
+    assert_same(state.scenario, back.scenario, "scenario")
+
+
+def _tampered(tmp_path: Path, edit: Any) -> Path:
+    """A copy of a real checkpoint with its JSON part changed by ``edit``."""
+    root = tmp_path / "tampered"
+    (root / "checkpoint").mkdir(parents=True)
+    with np.load(tmp_path / "run" / CHECKPOINT_FILE, allow_pickle=False) as archive:
+        arrays = {name: archive[name] for name in archive.files}
+    tree = json.loads(arrays["__state__"].tobytes())
+    edit(tree, arrays)
+    arrays["__state__"] = np.frombuffer(json.dumps(tree).encode(), dtype=np.uint8)
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    (root / CHECKPOINT_FILE).write_bytes(buffer.getvalue())
+    return root
+
+
+@pytest.mark.parametrize("edit", [
+    lambda tree, arrays: tree["loop"].update(
+        steps_policy={"__dataclass__": "os:system", "fields": {}}),
+    lambda tree, arrays: arrays.update(a0=np.array([object()], dtype=object)),
+    lambda tree, arrays: tree.update(version=1),
+    lambda tree, arrays: tree["scenario"].update(mesh={"__mesh__": ["a1", "a0"]}),
+], ids=["foreign-class", "object-array", "old-version", "broken-mesh"])
+def test_a_tampered_checkpoint_is_a_clear_error(state: SimulationState, tmp_path: Path,
+                                                edit: Any) -> None:
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+    root = _tampered(tmp_path, edit)
+    with pytest.raises(CheckpointError, match="checkpoint"):
+        read_checkpoint(root)
