@@ -1,4 +1,4 @@
-"""Benchmark (issue 16): a built-in aspect-ratio study, its runout law and wall time.
+"""Benchmark: a built-in aspect-ratio study, its runout law and wall time.
 
 Run: python benchmarks/aspect_ratio.py [--study aspect-ratio] [--workers 2]
          [--out benchmarks/results/aspect_ratio] [--analyse-only]

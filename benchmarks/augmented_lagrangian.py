@@ -1,4 +1,4 @@
-"""Benchmark (issue 17): the augmented Lagrangian method (ALG2) against the regularised law
+"""Benchmark: the augmented Lagrangian method (ALG2) against the regularised law
 on the plug flow (paper section 4), side by side in one run.
 
 Run: python benchmarks/augmented_lagrangian.py [--dz 0.125] [--dt 3.12e-3]

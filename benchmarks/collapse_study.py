@@ -1,4 +1,4 @@
-"""Benchmark: convergence and method comparisons of the rigid-bed collapse (issue 9).
+"""Benchmark: convergence and method comparisons of the rigid-bed collapse.
 
 Run: python benchmarks/collapse_study.py VARIANT [VARIANT ...]   (or `all`)
 Variants (each runs both shapes; the paper's parameters unless said otherwise):

@@ -1,4 +1,4 @@
-"""Benchmark (issue 14): the collapse over a 5 mm erodible layer and its surface tension.
+"""Benchmark: the collapse over a 5 mm erodible layer and its surface tension.
 
 Run: python benchmarks/erodible.py [--variants default lagrange layer4 always off
          fig5-rigid fig5-rigid-always coarse rigid-coarse fine rigid-fine]

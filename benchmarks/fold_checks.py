@@ -1,19 +1,19 @@
-"""Benchmark (issue 14): the boundary checks of a move on long erodible layers.
+"""Benchmark: the boundary checks of a move on long erodible layers.
 
 Run: python benchmarks/fold_checks.py [--out benchmarks/results/fold_checks]
 
 `segments_intersect` (is the boundary polygon still simple after a move?) runs at every
-attempted step. Session 8 tested all n^2 / 2 pairs of segments; on the 22-deg rectangle
-over its 3.2 m layer (2,500 boundary segments) that was 45 % of the run's time (py-spy).
-Session 9 prunes the pairs with a k-d tree. This script times both on the initial meshes
+attempted step. Testing all n^2 / 2 pairs of segments, on the 22-deg rectangle
+over its 3.2 m layer (2,500 boundary segments) took 45 % of the run's time (py-spy);
+granflow prunes the pairs with a k-d tree. This script times both on the initial meshes
 of the default erodible trapezoid and of the 22-deg rectangle over the layer (the
 configuration of benchmarks/slopes.py), checks that they agree, and writes
 OUT/fold_checks.json.
 
 Also the clamping of a remesh's field transfer (`ale/transfer.py: clamp_inside`): every
 vertex and edge midpoint of the mesh lifted by 0.5 mm (so the surface's points lie
-outside) clamped back into the mesh, session 10's point-by-point search over all segments
-against session 11's vectorised, k-d-tree-pruned one (which took 21 % of the 22-deg
+outside) clamped back into the mesh, a point-by-point search over all segments
+against granflow's vectorised, k-d-tree-pruned one (which took 21 % of the 22-deg
 trapezoid's run over its 5.85 m layer before; py-spy). Both must give the same points.
 """
 
@@ -42,7 +42,7 @@ CASES = {"trapezoid-erodible": ("trapezoid-erodible", []),
 
 
 def pairwise(xy: np.ndarray, segments: np.ndarray) -> bool:
-    """Session 8's test: the same predicate on every pair of segments."""
+    """The unpruned test: the same predicate on every pair of segments."""
     i, j = np.triu_indices(len(segments), k=1)
     return pairs_cross(xy, segments, i, j)
 

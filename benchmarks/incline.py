@@ -1,4 +1,4 @@
-"""Benchmark (issue 17): steady flow down an incline against the exact profiles.
+"""Benchmark: steady flow down an incline against the exact profiles.
 
 Run: python benchmarks/incline.py [--cells 8 16 32] [--out benchmarks/results/incline]
 

@@ -1,4 +1,4 @@
-"""Benchmark (issue 13): the first iterate of each step near rest on a slope.
+"""Benchmark: the first iterate of each step near rest on a slope.
 
 Run: python benchmarks/initial_guess.py [--guesses extrapolated auto] [--t-end 0.5]
          [--out benchmarks/results/initial_guess]

@@ -1,4 +1,4 @@
-"""Benchmark (issue 13): what one fixed-point iteration (3.2) costs, and two ways that
+"""Benchmark: what one fixed-point iteration (3.2) costs, and two ways that
 were tried to make it cheaper.
 
 Run: python benchmarks/iteration_cost.py [--scenario trapezoid-rigid] [--at 0.3]

@@ -1,4 +1,4 @@
-"""Benchmark (issue 17): does mu(I), ill posed at every I with the paper's mu_s
+"""Benchmark: does mu(I), ill posed at every I with the paper's mu_s
 (physics/well_posedness.py), converge under mesh refinement like Drucker-Prager?
 
 Run: python benchmarks/mu_i_refinement.py [--shape rectangle] [--levels 3]

@@ -1,4 +1,4 @@
-"""Benchmark (issue 13): the primal-dual iteration (fem/primal_dual.py) against the plain
+"""Benchmark: the primal-dual iteration (fem/primal_dual.py) against the plain
 fixed point (3.2), both on granflow's default fast path otherwise, back to back.
 
 Run: python benchmarks/primal_dual.py [--cases trapezoid rectangle tall plug-flow slope10]
@@ -27,7 +27,7 @@ from speed import CASES, run, surfaces
 from granflow.io.run_dir import atomic_write_text
 
 # the column of benchmarks/initial_guess.py: near rest on a 10 deg slope, where the plain
-# iteration contracts by only 0.96 per iteration (issue 13)
+# iteration contracts by only 0.96 per iteration
 SLOPE10 = ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.05",
                                "geometry.slope_deg=10.0", "boundary.normal_load=reaction",
                                "mesh.cells_across=8", "time.output_times=[0.3,0.45]",

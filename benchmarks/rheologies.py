@@ -1,4 +1,4 @@
-"""Benchmark (issue 17): the collapses with the regularised Drucker-Prager law and with
+"""Benchmark: the collapses with the regularised Drucker-Prager law and with
 mu(I), side by side, at the paper's section 5.2 set-up (fixed dt = 1e-3 s, tol = 1e-3).
 
 Run: python benchmarks/rheologies.py [--shapes trapezoid rectangle] [--rerun]

@@ -1,4 +1,4 @@
-"""Benchmark (issue 13): cost of one time step against the mesh size, and peak memory.
+"""Benchmark: cost of one time step against the mesh size, and peak memory.
 
 Run: python benchmarks/scaling.py [--triangles 300 1200 5000 20000 80000] [--steps 6]
          [--solver auto|umfpack|pardiso] [--out benchmarks/results/scaling]

@@ -1,4 +1,4 @@
-"""Benchmark (issue 17): the effect of a channel's side-wall friction on the collapses.
+"""Benchmark: the effect of a channel's side-wall friction on the collapses.
 
 Run: python benchmarks/side_walls.py [--width 0.1] [--angle 10.2]
          [--out benchmarks/results/side_walls]

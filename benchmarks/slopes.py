@@ -1,4 +1,4 @@
-"""Benchmark (issue 14): collapses on sloping beds, rigid and erodible, both shapes.
+"""Benchmark: collapses on sloping beds, rigid and erodible, both shapes.
 
 Run: python benchmarks/slopes.py [--slopes 0 10 16 22] [--beds rigid erodible]
          [--shapes trapezoid rectangle] [--set key=value ...] [--out benchmarks/results/slopes]

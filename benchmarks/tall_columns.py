@@ -1,4 +1,4 @@
-"""Benchmark (issue 15): rectangles of growing aspect ratio on a rigid bed, run to rest.
+"""Benchmark: rectangles of growing aspect ratio on a rigid bed, run to rest.
 
 Run: python benchmarks/tall_columns.py [--ratios 0.5 1 2 3 4] [--width 0.1]
          [--set key=value ...] [--out benchmarks/results/tall_columns]

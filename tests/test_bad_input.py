@@ -1,4 +1,4 @@
-"""No traceback on any input (issue 15): generated bad configurations, TOML files,
+"""No traceback on any input: generated bad configurations, TOML files,
 ``--set`` values and ``--out`` paths each exit with code 2 and a one-line message, and
 create nothing.
 

@@ -1,4 +1,4 @@
-"""Kill-safety of a run (issue 15): SIGKILL at a random moment or SIGINT, then
+"""Kill-safety of a run: SIGKILL at a random moment or SIGINT, then
 `granflow resume`, gives the uninterrupted run's stop time (within 1 %) and runout (within
 1 mm); a second run into a running directory is refused."""
 

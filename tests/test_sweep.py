@@ -1,4 +1,4 @@
-"""`granflow sweep` on Dask (issue 16): a LocalCluster of 2 worker processes, a failing
+"""`granflow sweep` on Dask: a LocalCluster of 2 worker processes, a failing
 run recorded as a row, reruns skipping finished runs, and an external scheduler."""
 
 from __future__ import annotations

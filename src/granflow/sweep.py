@@ -1,6 +1,6 @@
 """`granflow sweep`: parameter sweeps as Dask tasks, one run directory per run.
 
-A sweep file (DESIGN.md) names a base scenario, fixed overrides and the parameters to vary;
+A sweep file (docs/user_guide.md) names a base scenario, fixed overrides and the parameters to vary;
 the runs are the product of the ``[vary]`` lists::
 
     base = "rectangle-rigid"

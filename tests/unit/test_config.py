@@ -74,7 +74,7 @@ def test_collapse_scenarios_match_the_papers_section_5() -> None:
 
 PAPERS_ALGORITHM = ["numerics.linearization=picard", "time.adaptive=false",
                     "time.dt_init=1e-8", "time.dt_growth=1.1", "time.dt_max=1e-4",
-                    "numerics.tol=1e-4"]           # issue 13, item 5
+                    "numerics.tol=1e-4"]
 
 
 # ---------------------------------------------------------------- files and layering

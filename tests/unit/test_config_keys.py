@@ -1,4 +1,4 @@
-"""Every configuration key either changes a result or is rejected (issue 15).
+"""Every configuration key either changes a result or is rejected.
 
 The test walks the schema for two tiny cases, a column over an erodible layer and the plug
 flow: each key is set to another valid value, and the run (a few steps, in-process) must

@@ -1,4 +1,4 @@
-"""The inertial numbers reached in a mu(I) run (diagnostics/inertial.py, issue 17)."""
+"""The inertial numbers reached in a mu(I) run (diagnostics/inertial.py)."""
 
 import math
 

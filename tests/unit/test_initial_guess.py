@@ -1,4 +1,4 @@
-"""The first iterate of a step (``numerics.initial_guess``), issue 13: "auto" starts from
+"""The first iterate of a step (``numerics.initial_guess``): "auto" starts from
 whichever of (u^n, p^n) and the linear extrapolation predicted the last accepted step
 better."""
 

@@ -1,5 +1,5 @@
 """The augmented Lagrangian method (fem/augmented_lagrangian.py) on the plug flow, against
-the independent 1D reference of (4.1) (issue 17). Coarse cell: dZ = 0.25 m, dt = 1.25e-2 s,
+the independent 1D reference of (4.1). Coarse cell: dZ = 0.25 m, dt = 1.25e-2 s,
 t = 0.2 s; the acceptance cell (dZ = 0.125, dt = 3.12e-3) is
 benchmarks/augmented_lagrangian.py."""
 

@@ -150,7 +150,7 @@ def test_stable_heap_stays_at_rest() -> None:
 
 
 def test_the_column_that_stalled_the_iteration_comes_to_rest() -> None:
-    """Issue 13: l0 = 10 cm, h0 = 5 cm. Under (3.6) the cells at the thin front degraded
+    """l0 = 10 cm, h0 = 5 cm. Under (3.6) the cells at the thin front degraded
     (worst quality 0.10) and the fixed-point iteration (3.2) cycled from t = 0.27 s, each
     step accepted unconverged. With quality remeshing and unconverged steps rejected, the
     fast path brings it to rest near 0.27 s (an independent implementation of the paper's

@@ -1,5 +1,5 @@
 """Steady flow down an incline steeper than the friction: the 2D periodic layer against the
-exact profiles of reference/incline.py (issue 17). Coarse: 8 cells across the 1 cm layer,
+exact profiles of reference/incline.py. Coarse: 8 cells across the 1 cm layer,
 dt = 5e-3 s, to t = 6 s (steady to < 1e-3); the finer study is benchmarks/incline.py."""
 
 import dataclasses

@@ -99,7 +99,7 @@ class ElasticMeshVelocity(_LinearMeshVelocity):
 
     The system is symmetric positive definite, so it is factorised by sparse Cholesky
     whatever ``solver`` says: at 20,000 triangles it takes 74 MB against 242 MB for
-    PARDISO's LU, at the same speed (issue 13, peak memory).
+    PARDISO's LU, at the same speed (benchmarks/scaling.py, peak memory).
     """
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,

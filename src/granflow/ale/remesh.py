@@ -1,4 +1,4 @@
-"""Remeshing of the moving domain when the ALE mesh degrades (reliability; issue 9).
+"""Remeshing of the moving domain when the ALE mesh degrades (reliability).
 
 The boundary polygon is kept exactly (every boundary vertex stays a geometry point, with
 its label), long boundary edges are split by Netgen at the target size, and the interior

@@ -36,7 +36,7 @@ def clamp_inside(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     lies outside the mesh; points inside are returned unchanged.
 
     Vectorised (a remesh of a long erodible layer transfers tens of thousands of points,
-    thousands of them outside, against thousands of boundary segments; issue 14): one
+    thousands of them outside, against thousands of boundary segments): one
     point location for all points, and for those outside only the segments a k-d tree of
     segment midpoints cannot rule out. The nearest segment is the same as an all-pairs
     search would find, ties going to the lowest segment number.
@@ -81,7 +81,7 @@ def _distance2(p: np.ndarray, a: np.ndarray, d: np.ndarray,
 
 
 def clamp_all_pairs(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
-    """The reference for ``clamp_inside`` (session 10's search, O(points x segments)): each
+    """The reference for ``clamp_inside`` (a point-by-point search, O(points x segments)): each
     point located alone, each outside point compared with every boundary segment. Kept for
     tests/unit/test_transfer.py and benchmarks/fold_checks.py."""
     xy = mesh.ngmesh.Coordinates()

@@ -1,4 +1,4 @@
-"""The inertial numbers a mu(I) run reaches in its flowing cells (issue 17).
+"""The inertial numbers a mu(I) run reaches in its flowing cells.
 
 Incompressible mu(I) is ill-posed at low and at high I (Barker, Schaeffer, Bohorquez and
 Gray 2015, J. Fluid Mech. 779, 794-818); granflow does not regularise it (physics/mu_i.py),

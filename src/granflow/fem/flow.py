@@ -146,7 +146,7 @@ class FlowSolver:
         accepted step better (``accept``). Near rest the step-to-step change is below the
         nonlinear solver's own error, which the extrapolation doubles: a 10 deg slope's
         deposit then needs 16-122 Picard iterations per step from the extrapolation and
-        1-2 from (u^n, p^n), both ending 1e-6 m/s from the fixed point (issue 13).
+        1-2 from (u^n, p^n), both ending 1e-6 m/s from the fixed point.
         """
         if self.initial_guess == "auto":
             return self.extrapolation_won

@@ -43,7 +43,7 @@ def tangential(u: ngs.CoefficientFunction, n: ngs.CoefficientFunction) -> ngs.Co
 # The quadrature of the viscoplastic term, fixed so that Picard and Newton integrate the
 # same discrete law: NGSolve would pick order 2 (3 points) for the Picard form, where the
 # coefficient is a known field, and order 4 for Newton's, where it depends on the unknown.
-# Order 2 is what the verified runs of issues 4-9 used.
+# Order 2 is what the verified runs (docs/verification.md) used.
 VISCOPLASTIC_DX = ngs.dx(intrules={ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 2)})
 
 

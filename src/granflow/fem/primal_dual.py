@@ -21,7 +21,7 @@ matrix stays positive (symmetrising, after Chan-Golub-Mulet, keeps its structure
 pressure term matters at the yield limit, where the yield stress and the pressure are
 coupled: without it, the corrected iteration overshot and was undone on a creeping
 deposit; with it, it converged there in 87 iterations a step against 216 for (3.2)
-(README, issue 13). At convergence lambda = Du / r and both additions vanish against
+(docs/verification.md). At convergence lambda = Du / r and both additions vanish against
 their right-hand sides: the discrete solution is the one of (3.2). The wall friction
 stays Picard.
 

@@ -1,4 +1,4 @@
-"""Runs a configured scenario into a run directory (DESIGN.md, "A run directory contains").
+"""Runs a configured scenario into a run directory (its layout: docs/user_guide.md).
 
 The runner wires observers (diagnostics rows, profiles at output times, VTU snapshots, a
 progress bar, checkpoints) around a scenario's time loop, writes ``summary.json`` at the

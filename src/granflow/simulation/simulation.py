@@ -7,7 +7,7 @@ A step is accepted only when the move left a valid mesh, the nonlinear solve con
 and the step policy accepts its local error; otherwise the move is undone and the step
 retried (after a remesh, or with a smaller dt). A remesh answers a move that tangles the
 mesh, and a nonlinear iteration that fails on a degraded mesh: flat cells at a thin front
-make the fixed-point iteration (3.2) cycle instead of converge (issue 13).
+make the fixed-point iteration (3.2) cycle instead of converge.
 """
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ class RunResult:
     rejected_steps: int
     nonlinear_iterations: int
     linear_solves: int
-    unconverged_steps: int           # accepted without convergence: always 0 since issue 13
+    unconverged_steps: int           # accepted without convergence: always 0 now
     wall_time_s: float
     rejections: dict[str, int] = field(default_factory=dict)
 
