@@ -221,3 +221,34 @@ def test_the_schema_bounds_are_what_the_generator_reads() -> None:
                         list(SECTIONS["mesh"].model_fields["size"].metadata))
     assert bounds == {"gt": 0.0, "le": 1e3}
     assert load_config("trapezoid-rigid").mesh.size > 0 and MAX_TRIANGLES > 0
+
+
+DEEP = "a = " + "[" * 5000 + "]" * 5000 + "\n"
+
+
+@pytest.mark.parametrize("args, toml", [
+    (["run", "case.toml"], "scenario = [1]\n"),
+    (["run", "case.toml"], "scenario = {a = 1}\n"),
+    (["run", "case.toml"], DEEP),
+    (["run", "case.toml"], "[mesh]\nsize = " + "[" * 3000 + "]" * 3000 + "\n"),
+    (["sweep", "case.toml"], DEEP),
+    (["run", "/dev/zero"], None),
+    (["run", "/dev/urandom"], None),
+    (["sweep", "/dev/zero"], None),
+    (["run", "rectangle-rigid", "--set", "mesh.size=1e-320"], None),
+    (["run", "plug-flow", "--set", "mesh.size=1e-320"], None),
+    (["run", "trapezoid-erodible", "--set", "geometry.erodible_thickness=1e-320"], None),
+    (["run", "plug-flow", "--set", "material.viscosity=5e-324"], None),
+    (["run", "plug-flow", "--set", "time.dt=1e-12"], None),
+    (["run", "trapezoid-rigid", "--set", "time.dt_max=1e-12"], None),
+    (["run", "plug-flow", "--set", "numerics.tol=5e-324"], None),
+    (["run", "trapezoid-rigid", "--set", "mesh.size=0.001"], None),
+    (["verify", "plug-flow", "--out", "a_file"], None),
+    (["verify", "plug-flow", "--scheduler", "foo"], None),
+], ids=["scenario-list", "scenario-table", "deep-arrays", "deep-value", "deep-sweep",
+        "dev-zero", "dev-urandom", "sweep-dev-zero", "tiny-mesh", "tiny-plug-mesh",
+        "tiny-layer", "tiny-viscosity", "tiny-dt", "tiny-dt-max", "tiny-tol", "huge-mesh",
+        "verify-out-file", "verify-scheduler"])
+def test_the_last_bad_inputs_exit_2_with_one_line(args: list[str], toml: str | None) -> None:
+    """Each once ended in a traceback, a hang or hours of computing."""
+    check_refused(args, toml)

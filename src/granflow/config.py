@@ -37,6 +37,7 @@ __all__ = ["CUSTOM", "Config", "ConfigError", "apply_overrides", "builtin_scenar
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
+MAX_TOML_BYTES = 2**20  # a configuration or sweep file is a few kB
 
 
 class ConfigError(ValueError):
@@ -97,7 +98,7 @@ def _int_field(model: type[BaseModel], key: str) -> bool:
 
 class Material(_Section):
     density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
-    viscosity: Annotated[float, Field(gt=0, le=1e6)]  # dynamic viscosity eta (Pa s)
+    viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
     rheology: Literal["drucker-prager", "mu-i"]
     gravity: Annotated[float, Field(gt=0, le=100)]  # g (m/s^2)
@@ -164,7 +165,7 @@ class Mesh(_Section):
 class Numerics(_Section):
     eps: Annotated[float, Field(gt=0, le=1e3)]  # regularisation epsilon of (2.13) (1/s)
     eps_friction: Annotated[float, Field(gt=0, le=1e3)]  # of the Coulomb friction (m/s)
-    tol: Fraction  # stopping tolerance of the fixed-point iteration (3.2)
+    tol: Annotated[float, Field(ge=1e-14, lt=1)]  # stopping tolerance of (3.2); >= round-off
     tol_init: Fraction | None  # start tolerance of the ramp; None = tol
     max_iterations: Annotated[int, Field(ge=1, le=10**5)]
     linearization: Literal["picard", "newton", "hybrid", "primal-dual"]
@@ -339,12 +340,7 @@ def _read_source(source: str | Path) -> tuple[str, list[dict[str, Any]]]:
     text = str(source)
     if isinstance(source, Path) or text.endswith(".toml") or "/" in text:
         path = Path(source)
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise ConfigError(f"scenario file '{path}' not found") from None
-        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
-            raise ConfigError(f"cannot read scenario file '{path}': {err}") from None
+        data = read_toml_file(path, "scenario file")
         _check_keys(data)
         base = data.pop("scenario", CUSTOM)
         if base == CUSTOM:
@@ -353,9 +349,27 @@ def _read_source(source: str | Path) -> tuple[str, list[dict[str, Any]]]:
     return text, [_builtin(text)]
 
 
+def read_toml_file(path: Path, what: str) -> dict[str, Any]:
+    """A user's TOML file, refused with a one-line ConfigError if it is not a regular file
+    of at most 1 MB of UTF-8 TOML (a device such as /dev/zero is never read)."""
+    try:
+        if not path.is_file():
+            raise ConfigError(f"{what} '{path}' not found" if not path.exists()
+                              else f"{what} '{path}' is not a regular file")
+        if path.stat().st_size > MAX_TOML_BYTES:
+            raise ConfigError(f"{what} '{path}' is larger than {MAX_TOML_BYTES // 2**20} MB; "
+                              "a configuration is a few kB")
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
+        raise ConfigError(f"cannot read {what} '{path}': {err}") from None
+    except RecursionError:
+        raise ConfigError(f"cannot read {what} '{path}': its arrays or tables are nested "
+                          "too deeply") from None
+
+
 def _builtin(name: Any, where: str = "") -> dict[str, Any]:
     names = builtin_scenarios()
-    if name not in names:
+    if not isinstance(name, str) or name not in names:
         raise ConfigError(f"unknown scenario {_fmt(name)}{where}; built-in scenarios: "
                           f"{', '.join(names)}; or give the path of a .toml file")
     data = tomllib.loads(scenario_text(name))

@@ -14,12 +14,20 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from granflow.config import Config
 
-MAX_TRIANGLES = 200_000   # beyond this a direct solve needs tens of GB (benchmarks/scaling.py)
+MAX_TRIANGLES = 100_000   # about 3.5 GB of peak memory (benchmarks/scaling.py: 2.9 GB at 80,000)
+MAX_STEPS = 10**7         # fewest steps a run may need: at ~10 ms a step, more than a day
+GB_PER_TRIANGLE = 33e-6   # peak memory growth per triangle (benchmarks/scaling.py)
 
 
 def _problems(c: Config) -> Iterator[str]:
     """Cross-field checks."""
     t, g, m = c.time, c.geometry, c.mesh
+    fewest_steps = t.t_end / (t.dt if t.dt is not None else t.dt_max)
+    if fewest_steps > MAX_STEPS:
+        key = "time.dt" if t.dt is not None else "time.dt_max"
+        yield (f"{key} = {t.dt if t.dt is not None else t.dt_max!r} needs at least "
+               f"{fewest_steps:.2g} steps to time.t_end = {t.t_end!r} (at most {MAX_STEPS:.0e} "
+               f"allowed: weeks of computing); use {key} >= {t.t_end / MAX_STEPS:.2g}")
     if t.dt_init > t.dt_max:
         yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
     for x in t.output_times:
@@ -70,9 +78,15 @@ def _problems(c: Config) -> Iterator[str]:
                f"{layer:.2g} triangles in the layer (at most {MAX_TRIANGLES // 2} allowed); "
                "use a thicker or shorter layer, or fewer mesh.layer_cells")
     elif bulk + layer > MAX_TRIANGLES:
-        smallest = m.size * math.sqrt(bulk / (MAX_TRIANGLES - layer))
-        yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles (at most "
-               f"{MAX_TRIANGLES} allowed); use mesh.size >= {smallest:.2g}")
+        if g.kind == "column":
+            smallest = math.sqrt(_bulk_area(c) / 0.433 / (MAX_TRIANGLES - layer))
+        elif m.cells_x:     # 2 cells_x H / size triangles
+            smallest = 2 * m.cells_x * g.height / MAX_TRIANGLES
+        else:               # 2 L H / size^2
+            smallest = math.sqrt(2 * g.length * g.height / MAX_TRIANGLES)
+        yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles, about "
+               f"{0.3 + GB_PER_TRIANGLE * (bulk + layer):.2g} GB of memory (at most "
+               f"{MAX_TRIANGLES} triangles allowed); use mesh.size >= {smallest:.2g}")
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
@@ -92,14 +106,20 @@ def estimated_triangles(c: Config) -> tuple[float, float]:
     equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
     g, m = c.geometry, c.mesh
     if g.kind == "periodic-layer":
-        return 2 * (m.cells_x or g.length / m.size) * g.height / m.size, 0.0
-    run = g.height / math.tan(math.radians(g.front_angle_deg)) if g.shape == "trapezoid" else 0
-    area = g.width * g.height - 0.5 * g.height * min(run, g.width)
+        return 2 * (m.cells_x or g.length / m.size) * (g.height / m.size), 0.0
+    area = _bulk_area(c)
     layer = 0.0
     if g.erodible_thickness > 0:
         fine = g.erodible_thickness / m.layer_cells
-        layer = g.bed_length * g.erodible_thickness / (0.433 * fine**2)
-    return area / (0.433 * m.size**2), layer
+        layer = g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
+    return area / 0.433 / m.size / m.size, layer
+
+
+def _bulk_area(c: Config) -> float:
+    """Area of the column (m^2): the rectangle, less the front's triangle of a trapezoid."""
+    g = c.geometry
+    run = g.height / math.tan(math.radians(g.front_angle_deg)) if g.shape == "trapezoid" else 0
+    return g.width * g.height - 0.5 * g.height * min(run, g.width)
 
 
 def inert_keys(c: Config) -> dict[str, str]:

@@ -33,7 +33,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from granflow.config import ConfigError, load_config
+from granflow.config import ConfigError, load_config, read_toml_file
 from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text
 
 FINISHED = ("completed", "stopped")
@@ -84,21 +84,16 @@ def load_sweep(source: str) -> Sweep:
     """A sweep from a TOML file or a built-in study name (``granflow/studies/NAME.toml``)."""
     if source in builtin_studies():
         text = resources.files("granflow.studies").joinpath(f"{source}.toml").read_text()
-        name = source
+        data, name = tomllib.loads(text), source
     else:
         path = Path(source)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
+        if not path.exists():
             raise SweepError(f"sweep file '{source}' not found (built-in studies: "
-                             f"{', '.join(builtin_studies())})") from None
-        except (OSError, UnicodeDecodeError) as err:
-            raise SweepError(f"cannot read sweep file '{source}': {err}") from None
-        name = path.stem
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise SweepError(f"sweep file '{source}': {err}") from None
+                             f"{', '.join(builtin_studies())})")
+        try:
+            data, name = read_toml_file(path, "sweep file"), path.stem
+        except ConfigError as err:
+            raise SweepError(str(err)) from None
     unknown = set(data) - {"base", "set", "vary", "study"}
     if unknown:
         raise SweepError(f"sweep file '{source}': unknown entries {sorted(unknown)} "
@@ -301,9 +296,9 @@ class Cluster:
         if self.scheduler:
             try:
                 self.client = Client(self.scheduler, timeout="20s")
-            except (OSError, TimeoutError) as err:
+            except (OSError, TimeoutError, ValueError) as err:
                 raise SweepError(f"cannot reach the Dask scheduler at '{self.scheduler}': "
-                                 f"{err}") from None
+                                 f"{err} (an address is tcp://HOST:PORT)") from None
         else:
             self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
                                          processes=True, dashboard_address=":0")

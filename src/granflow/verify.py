@@ -20,7 +20,7 @@ from typing import Any
 
 from granflow.config import load_config
 from granflow.diagnostics.conservation import mesh_area
-from granflow.io.run_dir import atomic_write_text
+from granflow.io.run_dir import RunDirError, atomic_write_text
 from granflow.scenarios.plug_flow import build_plug_flow
 
 QUICK_CELLS = {  # coarse cells, for CI: (dZ, dt) pairs
@@ -115,7 +115,14 @@ def verify_plug_flow(table: int, cells: str, out: Path, progress: bool = True,
     ``out``. With a Dask ``client`` the cells run as tasks on its workers."""
     from tqdm import tqdm
 
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / ".granflow-write-test"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as err:
+        raise RunDirError(f"--out '{out}' is not a folder granflow can write into: "
+                          f"{err.strerror or err}") from None
     results: list[CellResult] = []
     start = time.perf_counter()
     rows = table_cells(table, cells)
