@@ -26,8 +26,7 @@ from hypothesis import strategies as st
 
 import granflow.simulation.runner as runner
 from granflow.cli import main
-from granflow.config import SECTIONS, load_config
-from granflow.config_rules import MAX_TRIANGLES
+from granflow.config import MAX_TRIANGLES, SECTIONS, load_config
 
 SCENARIOS = ["plug-flow", "trapezoid-rigid", "rectangle-rigid", "trapezoid-erodible"]
 WORD = st.text(alphabet="abcdefghijklmnopqrstuvwxyz_-", min_size=1, max_size=12)

@@ -25,7 +25,7 @@ from typing import Any, NoReturn
 
 from granflow import __version__
 from granflow.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
-from granflow.config import ConfigError, config_to_toml, load_config
+from granflow.config import ConfigError, builtin_scenarios, config_to_toml, load_config
 from granflow.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -37,7 +37,6 @@ from granflow.converge import (
 )
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
-from granflow.scenarios.registry import builtin_scenarios
 from granflow.sweep import SweepError
 
 DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without an argument

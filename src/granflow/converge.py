@@ -26,10 +26,9 @@ from typing import Any
 
 import numpy as np
 
-from granflow.config import Config, ConfigError, config_to_toml, load_config
+from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
 from granflow.diagnostics.compare import surface_distance
 from granflow.io.run_dir import RunDir
-from granflow.scenarios.registry import builtin_scenarios
 from granflow.sweep import FINISHED, SweepRun, run_all
 
 MODES = ("time", "space", "both")

@@ -3,7 +3,7 @@
 The test walks the schema for two tiny cases, a column over an erodible layer and the plug
 flow: each key is set to another valid value, and the run (a few steps, in-process) must
 differ from the baseline in its summary, its diagnostics, the files it writes or what it
-prints, or the value must be refused with a ConfigError (``config_rules.inert_keys``).
+prints, or the value must be refused with a ConfigError (``granflow.config.inert_keys``).
 Some keys only act in a situation a few steps cannot reach; their ``CONTEXT`` sets it up
 (the same context on both sides of the comparison).
 """

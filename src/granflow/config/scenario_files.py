@@ -10,7 +10,7 @@ from __future__ import annotations
 from importlib import resources
 from importlib.resources.abc import Traversable
 
-_PACKAGE = "granflow.scenarios"
+_PACKAGE = "granflow.scenarios"   # the TOML files are package data there
 
 
 def _scenario_files() -> dict[str, Traversable]:

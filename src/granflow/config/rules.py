@@ -1,6 +1,6 @@
 """Cross-field rules of the configuration: consistency, mesh size, and keys without effect.
 
-Kept apart from ``config.py`` (the schema and its layered loading): these rules read a
+Kept apart from the schema and the loading (``loading.py``): these rules read a
 validated ``Config``. ``inert_keys`` is what a user who sets such a key is told about;
 every other key changes a result (tests/unit/test_config_keys.py walks the schema).
 """
@@ -9,17 +9,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from granflow.config.messages import fmt_value
 
 if TYPE_CHECKING:
-    from granflow.config import Config
+    from granflow.config.schema import ConfigModel as Config
 
 MAX_TRIANGLES = 100_000   # about 3.5 GB of peak memory (benchmarks/scaling.py: 2.9 GB at 80,000)
 MAX_STEPS = 10**7         # fewest steps a run may need: at ~10 ms a step, more than a day
 GB_PER_TRIANGLE = 33e-6   # peak memory growth per triangle (benchmarks/scaling.py)
 
 
-def _problems(c: Config) -> Iterator[str]:
+def problems(c: Config) -> Iterator[str]:
     """Cross-field checks."""
     t, g, m = c.time, c.geometry, c.mesh
     fewest_steps = t.t_end / (t.dt if t.dt is not None else t.dt_max)
@@ -32,10 +34,10 @@ def _problems(c: Config) -> Iterator[str]:
         yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
     for x in t.output_times:
         if not 0 < x <= t.t_end:
-            yield (f"time.output_times = {_fmt(t.output_times)}: {x!r} is not in "
+            yield (f"time.output_times = {fmt_value(t.output_times)}: {x!r} is not in "
                    f"(0, time.t_end = {t.t_end!r}]")
     if any(b <= a for a, b in zip(t.output_times, t.output_times[1:], strict=False)):
-        yield f"time.output_times = {_fmt(t.output_times)}: must be increasing"
+        yield f"time.output_times = {fmt_value(t.output_times)}: must be increasing"
     if g.kind == "periodic-layer":
         side = min(g.length, g.height)
         if m.size > side:
@@ -184,14 +186,3 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("numerics.initial_guess", "Newton and the hybrid start from the extrapolated "
             "state unless it is 'auto'")
     return out
-
-
-def _fmt(value: Any) -> str:
-    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none)."""
-    if value is None:
-        return "none"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, list | tuple):
-        return "[" + ", ".join(_fmt(v) for v in value) + "]"
-    return repr(value)

@@ -11,8 +11,6 @@ import annotated_types as at
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from granflow.config_rules import _fmt
-
 
 def one_line(error: Any, data: dict[str, Any], sections: Mapping[str, type[BaseModel]]) -> str:
     """``section.key = value: must be ...`` from the first pydantic error."""
@@ -30,7 +28,7 @@ def one_line(error: Any, data: dict[str, Any], sections: Mapping[str, type[BaseM
     if error["type"] == "missing":
         return f"{section}.{key} is not set: it must be {allowed}"
     value = data.get(section, {}).get(key, error.get("input"))
-    return f"{section}.{key} = {_fmt(value)}: must be {allowed}"
+    return f"{section}.{key} = {fmt_value(value)}: must be {allowed}"
 
 
 def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
@@ -66,3 +64,14 @@ def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
     if hi:
         return f"{noun} {'<' if hi[0] == ')' else '<='} {hi[1]:g}"
     return noun
+
+
+def fmt_value(value: Any) -> str:
+    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none)."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(fmt_value(v) for v in value) + "]"
+    return repr(value)

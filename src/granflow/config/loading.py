@@ -21,216 +21,28 @@ import tomllib
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
-from types import NoneType
-from typing import Annotated, Any, Literal, get_args, get_origin
+from typing import Any
 
 import tomli_w
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
-from granflow.config_messages import one_line
-from granflow.config_rules import _fmt, _problems, inert_keys
-from granflow.scenarios.registry import builtin_scenarios, scenario_text
-
-__all__ = ["CUSTOM", "Config", "ConfigError", "apply_overrides", "builtin_scenarios",
-           "config_to_toml", "load_config", "parse_value"]
+from granflow.config.messages import fmt_value, one_line
+from granflow.config.rules import inert_keys, problems
+from granflow.config.scenario_files import builtin_scenarios, scenario_text
+from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
 MAX_TOML_BYTES = 2**20  # a configuration or sweep file is a few kB
 
 
-class ConfigError(ValueError):
-    """Invalid configuration; the message is one line naming the key, value and allowed range."""
-
-
-# Ranges a physical run can use (SI): wide enough for laboratory to field scales, narrow
-# enough that no value overflows, underflows or makes Netgen mesh for hours.
-Positive = Annotated[float, Field(gt=0)]
-NonNegative = Annotated[float, Field(ge=0)]
-Angle = Annotated[float, Field(ge=0, lt=90)]
-Fraction = Annotated[float, Field(gt=0, lt=1)]
-Length = Annotated[float, Field(gt=0, le=1e4)]           # m
-Duration = Annotated[float, Field(gt=0, le=1e4)]         # s
-Step = Annotated[float, Field(ge=1e-12, le=100)]         # s, a time step
-Penalty = Annotated[float, Field(ge=1, le=1e20)]
-Count = Annotated[int, Field(ge=0, le=10**9)]
-
-
-class _Section(BaseModel):
-    """Base of every model: frozen, strict types (no str -> float coercion), no extra keys."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _unset_none(cls, data: Any) -> Any:
-        # TOML has no null: the string "none" unsets an optional field. An integer written
-        # as a float (1e3, 100.0) is that integer.
-        if not isinstance(data, dict):
-            return data
-        return {
-            k: None if _is_none(v) and k in cls.model_fields and _optional(cls, k)
-            else int(v) if _integral(v) and k in cls.model_fields and _int_field(cls, k)
-            else v
-            for k, v in data.items()
-        }
-
-
-def _is_none(value: Any) -> bool:
-    return isinstance(value, str) and value.lower() == "none"
-
-
-def _optional(model: type[BaseModel], key: str) -> bool:
-    return NoneType in get_args(model.model_fields[key].annotation)
-
-
-def _integral(value: Any) -> bool:
-    return (isinstance(value, float) and math.isfinite(value) and value.is_integer()
-            and abs(value) < 2**63)
-
-
-def _int_field(model: type[BaseModel], key: str) -> bool:
-    tp = model.model_fields[key].annotation
-    return tp is int or int in get_args(tp) or any(
-        get_origin(a) is Annotated and get_args(a)[0] is int for a in get_args(tp))
-
-
-class Material(_Section):
-    density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
-    viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
-    friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
-    rheology: Literal["drucker-prager", "mu-i"]
-    gravity: Annotated[float, Field(gt=0, le=100)]  # g (m/s^2)
-    mu_2_deg: Angle  # mu(I): mu_2 = tan(angle), the friction at large I
-    i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
-    grain_diameter: Annotated[float, Field(gt=0, le=10)]  # mu(I): d (m)
-    grain_density: Annotated[float, Field(ge=1, le=1e5)]  # mu(I): rho_s (kg/m^3)
-
-    @property
-    def mu_s(self) -> float:
-        """Internal friction coefficient tan(delta); kappa = sqrt(2) mu_s [p]_+ (2.13)."""
-        return math.tan(math.radians(self.friction_angle_deg))
-
-    @property
-    def kinematic_viscosity(self) -> float:
-        """nu = eta / rho (m^2/s)."""
-        return self.viscosity / self.density
-
-
-class Geometry(_Section):
-    kind: Literal["periodic-layer", "column"]
-    slope_deg: Angle  # bed inclination theta
-    length: Length  # periodic layer: length l
-    height: Length  # layer height h, or column height h0
-    shape: Literal["trapezoid", "rectangle"]  # column
-    width: Length  # column BASE width l0 (the paper's l0; top width = l0 - h0 / tan(alpha0))
-    front_angle_deg: Annotated[float, Field(gt=0, le=90)]  # column front angle alpha0
-    erodible_thickness: Annotated[float, Field(ge=0, le=1e4)]  # column: he, 0 = rigid bed
-    bed_length: Length  # column on an erodible layer: where the layer ends
-
-
-class Boundary(_Section):
-    bed_friction_deg: Angle  # Coulomb mu_b = tan(angle)
-    wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
-    penalty: Penalty  # enforces u.n = 0 on the bed and the wall
-    normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
-    channel_width: Annotated[float, Field(gt=0, le=1e4)] | None  # side walls W; None = none
-    side_wall_friction_deg: Angle  # Coulomb mu_w = tan(angle) of the side walls
-
-    @property
-    def mu_bed(self) -> float:
-        return math.tan(math.radians(self.bed_friction_deg))
-
-    @property
-    def mu_wall(self) -> float:
-        return math.tan(math.radians(self.wall_friction_deg))
-
-
-class Initial(_Section):
-    shear_rate: Annotated[float, Field(ge=0, le=1e4)]  # plug flow: U0 = rate [Z - plug_base]_+
-    plug_base: Annotated[float, Field(ge=0, le=1e4)]
-
-
-class Mesh(_Section):
-    size: Annotated[float, Field(gt=0, le=1e3)]  # target edge length (m)
-    cells_x: Annotated[int, Field(ge=2, le=10**5)] | None  # periodic layer; None = length/size
-    # column: cells across its smaller side (sets size = min(width, height) / cells_across)
-    cells_across: Annotated[int, Field(ge=1, le=1000)] | None
-    remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
-    failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
-    layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
-
-
-class Numerics(_Section):
-    eps: Annotated[float, Field(gt=0, le=1e3)]  # regularisation epsilon of (2.13) (1/s)
-    eps_friction: Annotated[float, Field(gt=0, le=1e3)]  # of the Coulomb friction (m/s)
-    tol: Annotated[float, Field(ge=1e-14, lt=1)]  # stopping tolerance of (3.2); >= round-off
-    tol_init: Fraction | None  # start tolerance of the ramp; None = tol
-    max_iterations: Annotated[int, Field(ge=1, le=10**5)]
-    linearization: Literal["picard", "newton", "hybrid", "primal-dual"]
-    mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
-    mesh_penalty: Penalty
-    velocity_floor: Annotated[float, Field(ge=0, le=1e3)]  # m/s, floor of ||u|| in (3.2)
-    volume_correction: bool  # restore the initial area after each ALE move (column only)
-    ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
-    linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
-    initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
-    method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
-    al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
-
-    @property
-    def tol_start(self) -> float:
-        return self.tol if self.tol_init is None else self.tol_init
-
-
-class Time(_Section):
-    t_end: Duration
-    dt: Step | None  # fixed step; overrides the ramp
-    dt_init: Step
-    dt_max: Step
-    dt_growth: Annotated[float, Field(ge=1, le=10)]
-    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (3.1)
-    scheme: Literal["implicit-euler", "bdf2"]  # time scheme of (3.2a): order 1 or 2
-    error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
-    error_floor: Annotated[float, Field(gt=0, le=1e3)]  # adaptive: m/s, RMS speed floor
-    stop_at_rest: bool  # end the run once the mass has come to rest
-    rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
-    rest_duration: Annotated[float, Field(ge=0, le=1e4)]  # s at rest before the run ends
-    output_times: list[float]
-
-
-class SurfaceTension(_Section):
-    enabled: bool
-    delta: Annotated[float, Field(gt=0, le=1e4)]  # extent in surface nodes (3.11)
-    gamma0: Literal["auto"] | Annotated[float, Field(ge=0, le=1e9)]  # gamma0-bar of (3.11)
-    trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
-    release_angle_deg: Annotated[float, Field(ge=0, le=180)]  # stays on while it turns >=
-
-
-class Output(_Section):
-    vtk_every: Count  # 0 = only at output_times
-    checkpoint_every: Count  # 0 = only when interrupted or failed
-    progress: bool
-
-
-class Config(_Section):
+class Config(ConfigModel):
     """The fully resolved configuration of one run."""
-
-    scenario: str
-    material: Material
-    geometry: Geometry
-    boundary: Boundary
-    initial: Initial
-    mesh: Mesh
-    numerics: Numerics
-    time: Time
-    surface_tension: SurfaceTension
-    output: Output
 
     @model_validator(mode="after")
     def _consistent(self) -> Config:
-        for problem in _problems(self):
+        for problem in problems(self):
             raise PydanticCustomError("granflow_config", "{message}", {"message": problem})
         return self
 
@@ -243,15 +55,6 @@ class Config(_Section):
         """A new, validated configuration with ``key`` ("section.key") set to ``value``."""
         return apply_overrides(self, [f"{key}={toml_literal(value)}"])
 
-
-SECTIONS: dict[str, type[_Section]] = {
-    name: field.annotation
-    for name, field in Config.model_fields.items()
-    if isinstance(field.annotation, type) and issubclass(field.annotation, _Section)
-}
-
-
-# ---------------------------------------------------------------- loading and layering
 
 
 def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
@@ -279,7 +82,7 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
     for key in changed:
         if key in inert:
             section, name_ = key.split(".")
-            raise ConfigError(f"{key} = {_fmt(data[section][name_])} has no effect here: "
+            raise ConfigError(f"{key} = {fmt_value(data[section][name_])} has no effect here: "
                               f"{inert[key]}; remove it")
     cells = config.mesh.cells_across
     if cells is not None and config.geometry.kind == "column":
@@ -370,7 +173,7 @@ def read_toml_file(path: Path, what: str) -> dict[str, Any]:
 def _builtin(name: Any, where: str = "") -> dict[str, Any]:
     names = builtin_scenarios()
     if not isinstance(name, str) or name not in names:
-        raise ConfigError(f"unknown scenario {_fmt(name)}{where}; built-in scenarios: "
+        raise ConfigError(f"unknown scenario {fmt_value(name)}{where}; built-in scenarios: "
                           f"{', '.join(names)}; or give the path of a .toml file")
     data = tomllib.loads(scenario_text(name))
     data.pop("scenario", None)
@@ -387,7 +190,8 @@ def _check_keys(data: dict[str, Any]) -> None:
             raise ConfigError(f"unknown configuration section '{section}' "
                               f"(known sections: {', '.join(SECTIONS)}; top-level key: scenario)")
         if not isinstance(table, dict):
-            raise ConfigError(f"'{section}' must be a table [{section}] of keys, not {_fmt(table)}")
+            raise ConfigError(f"'{section}' must be a table [{section}] of keys, "
+                              f"not {fmt_value(table)}")
         known = SECTIONS[section].model_fields
         for key in table:
             if key not in known:
@@ -426,9 +230,6 @@ def parse_value(raw: str) -> Any:
         except ValueError:
             return raw
     return parsed["v"] if list(parsed) == ["v"] else raw
-
-
-# ---------------------------------------------------------------- error messages
 
 
 def _validate(data: dict[str, Any]) -> Config:
