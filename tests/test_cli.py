@@ -102,6 +102,7 @@ def test_argument_errors_are_one_line(tmp_path: Path, monkeypatch: pytest.Monkey
     assert err.startswith("granflow: error: ") and err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_verify_exits_non_zero_when_a_cell_misses_its_bound(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
         capsys: pytest.CaptureFixture[str]) -> None:

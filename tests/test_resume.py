@@ -19,6 +19,7 @@ import pytest
 CASE = ["rectangle-rigid", "--set", "geometry.width=0.1", "--set", "geometry.height=0.1",
         "--set", "mesh.size=0.02", "--set", "time.t_end=1", "--set",
         "output.checkpoint_every=10", "--quiet"]
+pytestmark = pytest.mark.slow   # two full runs to rest and their interrupted twins
 ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
 
 

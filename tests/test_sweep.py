@@ -69,6 +69,7 @@ def test_a_failing_run_is_a_row_and_the_others_complete(tmp_path: Path) -> None:
     assert "failed" in done.stderr
 
 
+@pytest.mark.slow
 def test_an_external_scheduler_with_two_workers(tmp_path: Path) -> None:
     (tmp_path / "tiny.toml").write_text(TINY)
     dask = Path(sys.executable).with_name("dask")

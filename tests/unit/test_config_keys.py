@@ -109,7 +109,8 @@ def no_figures(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(problem, "plot", lambda self, run_dir: None)
 
 
-@pytest.mark.parametrize("case", sorted(TINY))
+@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c == "column"
+                                  else c for c in sorted(TINY)])
 def test_every_key_changes_a_result_or_is_rejected(case: str) -> None:
     scenario, base = TINY[case]
     config = load_config(scenario, base)

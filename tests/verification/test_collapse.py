@@ -117,7 +117,7 @@ def test_block_slides_with_coulomb_deceleration() -> None:
     assert sliding_block(35.0) == pytest.approx(expected, rel=0.05)
 
 
-@pytest.mark.parametrize("size", [0.0125, 0.00625])
+@pytest.mark.parametrize("size", [0.0125, pytest.param(0.00625, marks=pytest.mark.slow)])
 def test_block_slides_at_the_coulomb_rate_with_the_reaction_load(size: float) -> None:
     """boundary.normal_load = "reaction": the friction is loaded by the normal traction of
     the penalty, [xi u.N]_+, whose integral is the block's weight. Measured errors
@@ -149,6 +149,7 @@ def test_stable_heap_stays_at_rest() -> None:
     assert (speed.NumPy() / areas.NumPy()).max() < 1e-3
 
 
+@pytest.mark.slow
 def test_the_column_that_stalled_the_iteration_comes_to_rest() -> None:
     """l0 = 10 cm, h0 = 5 cm. Under (3.6) the cells at the thin front degraded
     (worst quality 0.10) and the fixed-point iteration (3.2) cycled from t = 0.27 s, each

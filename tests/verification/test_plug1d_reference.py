@@ -106,6 +106,7 @@ def test_self_convergence_order(refinement: list[Plug1DSolution]) -> None:
     assert order > 1.5, (order, diffs)
 
 
+@pytest.mark.slow
 def test_default_accuracy_against_finer_solution(
     default: Plug1DSolution, refinement: list[Plug1DSolution], fine: Plug1DSolution
 ) -> None:
