@@ -336,7 +336,10 @@ def _verify(args: argparse.Namespace) -> int:
     else:
         outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
                                    progress=not args.quiet)
+    total, failed = len(outcome.results), len(outcome.failed)
     print(f"verify {args.case}: table {args.table} ({args.cells} cells) -> {outcome.path}")
+    print(f"{'FAIL' if failed else 'PASS'}: {total - failed} of {total} cells within "
+          f"{BOUND:g} x the paper's error and a volume error under {VOLUME_BOUND:g}")
     for cell in outcome.failed:
         print(f"granflow: cell eps = {cell.eps:g}, dt = {cell.dt:g}, dZ = {cell.dZ:g} missed "
               f"its bound: error {cell.error:.3g} > {BOUND:g} x paper {cell.paper_error:.3g}"
