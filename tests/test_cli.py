@@ -29,6 +29,21 @@ def test_version(granflow_cli) -> None:
     assert proc.returncode == 0 and proc.stdout.strip() == f"granflow {__version__}"
 
 
+def test_show_prints_the_resolved_configuration_a_run_accepts(granflow_cli,
+                                                               tmp_path: Path) -> None:
+    """The scenario's own settings (not the package defaults) and the overrides, as TOML
+    that loads back to the same configuration."""
+    from granflow.config import load_config
+
+    proc = granflow_cli("show", "rectangle-rigid", "--set", "geometry.height=0.2")
+    assert proc.returncode == 0, proc.stderr
+    (tmp_path / "shown.toml").write_text(proc.stdout)
+    shown = load_config(str(tmp_path / "shown.toml"))
+    expected = load_config("rectangle-rigid", ["geometry.height=0.2"])
+    assert shown.model_dump(exclude={"scenario"}) == expected.model_dump(exclude={"scenario"})
+    assert 'shape = "rectangle"' in proc.stdout and "height = 0.2" in proc.stdout
+
+
 def test_invalid_set_exits_2_with_one_line_and_creates_nothing(granflow_cli,
                                                                tmp_path: Path) -> None:
     proc = granflow_cli("run", "--set", "numerics.eps=-1")

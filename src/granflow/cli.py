@@ -1,6 +1,7 @@
 """The ``granflow`` command line (also ``python -m granflow``).
 
     granflow scenarios
+    granflow show [SCENARIO|FILE.toml] [--set key=value ...]
     granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
     granflow plot RUN_DIR
@@ -72,6 +73,16 @@ def _parser() -> argparse.ArgumentParser:
 
     p = commands.add_parser("scenarios", help="list the built-in scenarios, one line each")
     p.set_defaults(command=_scenarios)
+
+    p = commands.add_parser(
+        "show", help="print a scenario's resolved configuration (every key, as TOML)",
+        description="Print the configuration a run of SCENARIO|FILE.toml would use: the package "
+                    "defaults, the scenario's settings and the --set overrides, validated. The "
+                    "output is a TOML file that `granflow run` accepts.")
+    p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO, metavar="SCENARIO|FILE.toml")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="override a configuration key (repeatable)")
+    p.set_defaults(command=_show)
 
     p = commands.add_parser(
         "run", help="run a scenario into a run directory",
@@ -177,6 +188,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_verify)
     return parser
+
+
+def _show(args: argparse.Namespace) -> int:
+    print(config_to_toml(load_config(args.scenario, args.overrides)), end="")
+    return 0
 
 
 def _scenarios(args: argparse.Namespace) -> int:
@@ -320,7 +336,10 @@ def _verify(args: argparse.Namespace) -> int:
     else:
         outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,
                                    progress=not args.quiet)
+    total, failed = len(outcome.results), len(outcome.failed)
     print(f"verify {args.case}: table {args.table} ({args.cells} cells) -> {outcome.path}")
+    print(f"{'FAIL' if failed else 'PASS'}: {total - failed} of {total} cells within "
+          f"{BOUND:g} x the paper's error and a volume error under {VOLUME_BOUND:g}")
     for cell in outcome.failed:
         print(f"granflow: cell eps = {cell.eps:g}, dt = {cell.dt:g}, dZ = {cell.dZ:g} missed "
               f"its bound: error {cell.error:.3g} > {BOUND:g} x paper {cell.paper_error:.3g}"

@@ -67,18 +67,22 @@ def initial_outline(config: Any) -> np.ndarray:
 def plot_collapse(run_dir: RunDir, config: Any) -> None:
     """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
     the run directory's files alone (profiles/, diagnostics.csv, frames/)."""
-    times = list(config.time.output_times)
     summary = RunDir.summary(run_dir.root)
+    final = _final_surface(run_dir, summary)
+    # output times after the mass came to rest hold the rest state: drawn once, as "at rest"
+    rest = summary.get("outputs_at_rest") or [] if final is not None else []
+    times = [t for t in config.time.output_times if not any(abs(t - x) < 1e-9 for x in rest)]
     height = config.geometry.height
+    bed = _bed_note(config.geometry.slope_deg)
     outline = initial_outline(config)
     fig, ax = plt.subplots(figsize=(8, 3))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, prof in _profiles(run_dir, "free_surface", times):
         ax.plot(prof["x"], prof["z"], label=_label(t, summary))
-    final = _final_surface(run_dir, summary)
     if final is not None:
         ax.plot(final[1]["x"], final[1]["z"], color="k", lw=1.2, label=final[0])
-    ax.set(xlabel="X (m)", ylabel="Z (m)", title="Free surface", aspect=_aspect(ax, height))
+    ax.set(xlabel="x (m)", ylabel="z (m)", title=f"Free surface{bed}",
+           aspect=_aspect(ax, height))
     _legend(ax)
     save_figure(fig, run_dir.path("plots/free_surface.png"))
 
@@ -89,8 +93,9 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         surf = _profiles(run_dir, "free_surface", [t])
         if surf:
             ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
-    ax.set(xlabel="X (m)", ylabel="Z (m)", aspect=_aspect(ax, height),
-           title="Static/flowing interface (|u| > 1 mm/s), dotted: free surface")
+    ax.set(xlabel="x (m)", ylabel="z (m)", aspect=_aspect(ax, height),
+           title="Static/flowing interface: edges of the cells with |u| > 1 mm/s (steps "
+                 f"of one cell){bed}; dotted: free surface")
     _legend(ax)
     save_figure(fig, run_dir.path("plots/interface.png"))
 
@@ -106,11 +111,14 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
                 m = np.isclose(p["section_x"], xs)
                 axes[0][j].plot(p["u_x"][m], p["z"][m], label=_label(t, summary, ""))
                 axes[1][j].plot(p["u_z"][m], p["z"][m])
-            axes[0][j].set_title(f"X = {xs * 100:.1f} cm")
-            axes[0][j].set_xlabel("U_X (m/s)")
-            axes[1][j].set_xlabel("U_Z (m/s)")
-        axes[0][0].set_ylabel("Z (m)")
-        axes[1][0].set_ylabel("Z (m)")
+            axes[0][j].set_title(f"section x = {xs:.3f} m")
+            axes[0][j].set_xlabel("u_x (m/s)")
+            axes[1][j].set_xlabel("u_z (m/s)")
+        axes[0][0].set_ylabel("z (m)")
+        axes[1][0].set_ylabel("z (m)")
+        fig.suptitle(f"Velocity profiles across vertical sections{bed}", fontsize=10)
+        for a in axes.flat:
+            a.xaxis.set_major_locator(plt.MaxNLocator(4))
         _legend(axes[0][0])
         save_figure(fig, run_dir.path("plots/velocity_sections.png"))
 
@@ -118,14 +126,19 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     if diag:
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.2))
         a1.plot(diag["t"], diag["front_x"])
-        a1.set(xlabel="t (s)", ylabel="front X (m)", title="Front position")
+        a1.set(xlabel="t (s)", ylabel="front x (m)", title=f"Front position{bed}")
         a2.plot(diag["t"], diag["kinetic_energy"])
         a2.set(xlabel="t (s)", ylabel="kinetic energy (J/m)", title="Kinetic energy")
         save_figure(fig, run_dir.path("plots/front_and_energy.png"))
 
     frames = read_frames(run_dir.root)
     if frames:
-        _animate(run_dir.path("plots/speed.gif"), frames, outline, height)
+        _animate(run_dir.path("plots/speed.gif"), frames, outline, height, bed)
+
+
+def _bed_note(slope_deg: float) -> str:
+    """Words for a title: x runs along the bed, which is inclined on a slope."""
+    return f" (x along the bed, inclined at {slope_deg:g}°)" if slope_deg else ""
 
 
 def _aspect(ax: plt.Axes, height: float) -> str:
@@ -141,16 +154,20 @@ def _legend(ax: plt.Axes) -> None:
 
 
 def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
-             height: float) -> None:
+             height: float, bed: str = "") -> None:
     """The GIF of the cell speeds: axes, ticks and outline are drawn once; each frame
     redraws only its mesh colours, interface and title over that background (blitting)
     and goes to Pillow as it is: a fifth of the time of redrawing whole figures."""
     xmax = max(f["xy"][:, 0].max() for f in frames) * 1.02
     vmax = max(float(f["speed"].max()) for f in frames) or 1.0
-    fig, ax = plt.subplots(figsize=(8, 2.8))
+    fig, ax = plt.subplots(figsize=(8.6, 3.0))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8)
-    ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal")
+    ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal", xlabel="x (m)",
+           ylabel="z (m)")
+    scale = plt.cm.ScalarMappable(norm=plt.Normalize(0, vmax), cmap="viridis")
+    fig.colorbar(scale, ax=ax, label="speed |u| (m/s)", fraction=0.025, pad=0.02)
     title = ax.set_title(" " * 80)
+    fig.tight_layout()
     fig.canvas.draw()
     title.set_animated(True)
     background = fig.canvas.copy_from_bbox(fig.bbox)
@@ -162,8 +179,7 @@ def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
                              animated=True)
         line, = ax.plot(f["interface"][:, 0], f["interface"][:, 1], "r-", lw=1,
                         animated=True)
-        title.set_text(f"|u| (0-{vmax:.2f} m/s), red: static/flowing interface, "
-                       f"t = {f['t']:.3f} s")
+        title.set_text(f"t = {f['t']:.3f} s; red: static/flowing interface{bed}")
         for artist in (cells, line, title):
             ax.draw_artist(artist)
         rgba = np.asarray(fig.canvas.buffer_rgba())

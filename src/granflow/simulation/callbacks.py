@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
@@ -53,14 +54,25 @@ class ProgressBar:
         self.enabled = enabled
         self.bar = tqdm(total=t_end, initial=initial, unit="s", disable=not enabled,
                         dynamic_ncols=True,
-                        bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}<{remaining}]"
-                        "{postfix}")
+                        bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}]{postfix}")
+        self.t_end, self.started = t_end, time.monotonic()
+        self.initial = initial
 
     def __call__(self, sim: Simulation) -> None:
         self.bar.update(sim.dt)
         report = sim.last_report
         self.bar.set_postfix_str(
-            f"dt={sim.dt:.2e} it={report.iterations if report else 0}", refresh=False)
+            f"dt={sim.dt:.2e} it={report.iterations if report else 0}{self._eta(sim.t)}",
+            refresh=False)
+
+    def _eta(self, t: float) -> str:
+        """Remaining wall time at the average pace so far; none in the first tenth of the
+        run, whose tiny starting steps would predict hours."""
+        done = t - self.initial
+        if done < 0.1 * (self.t_end - self.initial) or done <= 0:
+            return ""
+        remaining = (time.monotonic() - self.started) * (self.t_end - t) / done
+        return f" eta<{remaining:.0f}s"
 
     def close(self, note: str = "") -> None:
         """Close the bar with ``note`` after it (why it stopped short of t_end, say)."""

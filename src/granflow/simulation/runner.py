@@ -187,6 +187,8 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
     sim.checkpoint, sim.checkpoint_every = checkpoint, config.output.checkpoint_every
     if resume is None:
         write_fields(series, problem, 0.0)
+        if animation is not None:
+            write_animation_frame(sim)      # the animation starts from the column at rest
     crashed: Exception | None = None
     result: RunResult | None = None
     try:
