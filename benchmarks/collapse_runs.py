@@ -12,9 +12,9 @@ import argparse
 import json
 from pathlib import Path
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
         "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s",
@@ -28,9 +28,8 @@ def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path)
     results = {}
     for name in scenarios:
         config = load_config(name, overrides)
-        run_dir = RunDir.create(out / tag / name, force=True)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        summary = run_simulation(config, run_dir, progress=False)
+        run_dir = granflow.run(config, out=out / tag / name, force=True)
+        summary = RunDir.summary(run_dir.root)
         results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
         print(tag, name, json.dumps(results[name], indent=1), flush=True)
     atomic_write_text(out / f"{tag}.json", json.dumps(results, indent=2))

@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import RunDir, atomic_file, atomic_write_text
-from granflow.simulation.runner import run_simulation
+from granflow.io.run_dir import atomic_file, atomic_write_text
 
 VARIANTS: dict[str, tuple[str, list[str], str | None]] = {
     # name: (scenario, overrides, reference variant for the surface comparison)
@@ -90,9 +90,7 @@ def main() -> None:
         run = args.out / "runs" / name
         if args.rerun or not (run / "summary.json").exists():
             config = load_config(scenario, overrides)
-            run_dir = RunDir.create(run, force=True)
-            run_dir.write_text("config.toml", config_to_toml(config))
-            run_simulation(config, run_dir, progress=False)
+            granflow.run(config, out=run, force=True)
         summary = json.loads((run / "summary.json").read_text())
         results[name] = {k: summary.get(k) for k in KEYS} | {
             "scenario": scenario, "overrides": overrides,

@@ -28,12 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.physics import MuI
 from granflow.reference.incline import bagnold_profile
 from granflow.scenarios.materials import build_rheology
-from granflow.simulation.runner import run_simulation
 
 HEIGHT = 0.01
 CASES = {   # name: overrides of incline-mu-i
@@ -85,10 +85,9 @@ def main() -> None:
                     "time.output_times=[6.0, 8.0]", "material.viscosity=1e-4"
                     if "mu-i" in name else "material.viscosity=0.5"]
             config = load_config("incline-mu-i", sets)
-            run_dir = RunDir.create(args.out / "runs" / f"{name.replace(' ', '_')}_{cells}",
-                                    force=True)
-            run_dir.write_text("config.toml", config_to_toml(config))
-            s = run_simulation(config, run_dir, progress=False)
+            folder = args.out / "runs" / f"{name.replace(' ', '_')}_{cells}"
+            run_dir = granflow.run(config, out=folder, force=True)
+            s = RunDir.summary(run_dir.root)
             row = {"case": name, "cells": cells, "dt": config.time.dt, "status": s["status"],
                    "error_exact": s["velocity_relative_error_l2"],
                    "error_bagnold": bagnold_error(config, run_dir.root),

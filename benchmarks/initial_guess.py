@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
+import granflow
+from granflow.config import load_config
+from granflow.io.run_dir import atomic_write_text
 
 COLUMN = ["geometry.width=0.1", "geometry.height=0.05", "geometry.slope_deg=10.0",
           "boundary.normal_load=reaction", "mesh.cells_across=8", "time.output_times=[]",
@@ -62,9 +62,7 @@ def main() -> None:
     for guess in args.guesses:
         config = load_config("rectangle-rigid", [*COLUMN, f"numerics.initial_guess={guess}",
                                                  f"time.t_end={args.t_end!r}"])
-        run_dir = RunDir.create(args.out / "runs" / guess, force=True)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        run_simulation(config, run_dir, progress=False)
+        run_dir = granflow.run(config, out=args.out / "runs" / guess, force=True)
         results[guess] = measure(run_dir.root)
         print(guess, json.dumps(results[guess]), flush=True)
     args.out.mkdir(parents=True, exist_ok=True)

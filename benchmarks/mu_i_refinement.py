@@ -21,9 +21,9 @@ from pathlib import Path
 
 from rheologies import SCENARIO, SETUP, curves, distances
 
-from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
+import granflow
+from granflow.config import load_config
+from granflow.io.run_dir import atomic_write_text
 
 LAWS = {"drucker-prager": [], "mu-i": ["material.rheology=mu-i"]}
 KEYS = ["status", "stop_time_s", "runout_m", "steps", "linear_solves", "wall_time_s",
@@ -36,9 +36,7 @@ def run(shape: str, law: str, level: int, out: Path) -> dict:
     config = load_config(SCENARIO[shape], [*SETUP, *LAWS[law], f"mesh.size={size!r}"])
     path = out / "runs" / f"{shape}-{law}-h{level}"
     if not (path / "summary.json").exists():
-        run_dir = RunDir.create(path, force=True)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        run_simulation(config, run_dir, progress=False)
+        granflow.run(config, out=path, force=True)
     summary = json.loads((path / "summary.json").read_text())
     return {"mesh_size_m": size, **{k: summary.get(k) for k in KEYS}}
 

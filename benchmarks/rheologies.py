@@ -36,10 +36,10 @@ from pathlib import Path
 import numpy as np
 from erodible import _save
 
-from granflow.config import ConfigError, config_to_toml, load_config
+import granflow
+from granflow.config import ConfigError, load_config
 from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
+from granflow.io.run_dir import atomic_write_text
 
 SETUP = ["time.adaptive=false", "time.dt=1e-3", "numerics.tol=1e-3", "time.t_end=2.0",
          "time.stop_at_rest=true"]
@@ -92,9 +92,7 @@ def run_case(shape: str, law: str, out: Path, rerun: bool,
     except ConfigError as err:
         return {"status": "refused", "message": str(err)}
     if rerun or not (run / "summary.json").exists():
-        run_dir = RunDir.create(run, force=True)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        run_simulation(config, run_dir, progress=False)
+        granflow.run(config, out=run, force=True)
     summary = json.loads((run / "summary.json").read_text())
     return {k: summary.get(k) for k in KEYS}
 

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 from rheologies import curves, distances
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m", "steps",
         "wall_time_s"]
@@ -42,9 +42,8 @@ def main() -> None:
             config = load_config(scenario, ["time.stop_at_rest=true", "time.t_end=2.0",
                                             *extra])
             name = f"{scenario}_{'walls' if extra else 'plain'}"
-            run_dir = RunDir.create(args.out / "runs" / name, force=True)
-            run_dir.write_text("config.toml", config_to_toml(config))
-            summary = run_simulation(config, run_dir, progress=False)
+            run_dir = granflow.run(config, out=args.out / "runs" / name, force=True)
+            summary = RunDir.summary(run_dir.root)
             rows.append({"scenario": scenario, "case": label,
                          **{k: summary.get(k) for k in KEYS}})
             print(json.dumps(rows[-1]), flush=True)

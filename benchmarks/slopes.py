@@ -26,9 +26,9 @@ import argparse
 import json
 from pathlib import Path
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "linear_solves", "wall_time_s",
         "stop_time_s", "runout_m", "runout_1mm_m", "volume_relative_error", "n_triangles",
@@ -105,9 +105,8 @@ def main() -> None:
                 rigid = results.get(f"{shape}-rigid-{slope:g}", {}).get("runout_m")
                 config = load_config(SCENARIO[shape], [*overrides(shape, bed, slope, rigid),
                                                        *args.extra])
-                run_dir = RunDir.create(args.out / "runs" / name, force=True)
-                run_dir.write_text("config.toml", config_to_toml(config))
-                summary = run_simulation(config, run_dir, progress=False)
+                run_dir = granflow.run(config, out=args.out / "runs" / name, force=True)
+                summary = RunDir.summary(run_dir.root)
                 results = _store(args.out, name, {k: summary.get(k) for k in KEYS} | {
                     "shape": shape, "bed": bed, "slope": slope})
                 print(name, json.dumps(results[name]), flush=True)

@@ -31,10 +31,10 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.diagnostics.compare import surface_distance
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
          "time.dt_growth=1.1", "time.dt_max=1e-4", "numerics.tol=1e-4",
@@ -74,9 +74,8 @@ KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
 def run(scenario: str, overrides: list[str], out: Path) -> dict:
     config = load_config(scenario, [*overrides, "output.progress=false"])
     shutil.rmtree(out, ignore_errors=True)     # never mix the files of two runs
-    run_dir = RunDir.create(out, force=True)
-    run_dir.write_text("config.toml", config_to_toml(config))
-    summary = run_simulation(config, run_dir, progress=False)
+    run_dir = granflow.run(config, out=out, force=True)
+    summary = RunDir.summary(run_dir.root)
     return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
 
 

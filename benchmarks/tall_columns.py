@@ -16,9 +16,9 @@ import argparse
 import json
 from pathlib import Path
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "linear_solves",
         "wall_time_s", "stop_time_s", "runout_m", "n_triangles", "remeshes",
@@ -53,9 +53,8 @@ def main() -> None:
         overrides = [f"geometry.width={args.width!r}", f"geometry.height={ratio * args.width!r}",
                      "time.t_end=3.0", *args.extra]
         config = load_config("rectangle-rigid", overrides)
-        run_dir = RunDir.create(args.out / "runs" / f"h{ratio:g}", force=True)
-        run_dir.write_text("config.toml", config_to_toml(config))
-        summary = run_simulation(config, run_dir, progress=False)
+        run_dir = granflow.run(config, out=args.out / "runs" / f"h{ratio:g}", force=True)
+        summary = RunDir.summary(run_dir.root)
         results[f"{ratio:g}"] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
         print(f"h0/l0 = {ratio:g}", json.dumps(results[f"{ratio:g}"]), flush=True)
         atomic_write_text(store, json.dumps(results, indent=2))

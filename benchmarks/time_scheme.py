@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.config import config_to_toml, load_config
+import granflow
+from granflow.config import load_config
 from granflow.diagnostics.compare import surface_distance
 from granflow.io.run_dir import RunDir, atomic_write_text
-from granflow.simulation.runner import run_simulation
 
 PAPER_HALF_STEP = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
                    "time.dt_growth=1.1", "time.dt_max=5e-5", "numerics.tol=1e-4",
@@ -54,9 +54,8 @@ def ensure_run(name: str, root: Path, collect: bool) -> dict | None:
     if collect:
         return None
     config = load_config("trapezoid-rigid", [*RUNS[name], "output.progress=false"])
-    run_dir = RunDir.create(out, force=True)
-    run_dir.write_text("config.toml", config_to_toml(config))
-    return run_simulation(config, run_dir, progress=False)
+    run_dir = granflow.run(config, out=out, force=True)
+    return RunDir.summary(run_dir.root)
 
 
 def compare(run: Path, reference: Path, summary: dict, ref: dict) -> dict:

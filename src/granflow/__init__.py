@@ -12,7 +12,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")    # PARDISO (MKL): one thread, like NGSolve
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = ["Config", "Run", "Summary", "load", "run", "__version__"]
 _API = {"run": "granflow.api", "load": "granflow.api", "Run": "granflow.api",
