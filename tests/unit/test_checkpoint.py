@@ -25,8 +25,8 @@ from granflow.io.checkpoint import (
     write_checkpoint,
 )
 from granflow.io.run_dir import RunDir
+from granflow.io.run_state import SimulationState
 from granflow.simulation.runner import build_problem
-from granflow.simulation.state import SimulationState
 
 
 def assert_same(a: Any, b: Any, where: str = "state") -> None:

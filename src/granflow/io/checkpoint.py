@@ -26,7 +26,7 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.io.run_dir import RunDir
-from granflow.simulation.state import STATE_VERSION, SimulationState
+from granflow.io.run_state import STATE_VERSION, SimulationState
 
 CHECKPOINT_FILE = "checkpoint/state.npz"
 LEGACY_CHECKPOINT_FILE = "checkpoint/state.pkl"

@@ -101,7 +101,7 @@ class ColumnCollapse:
         self.remeshes += 1
         self.fresh_quality = float(shape_quality(mesh).min())
 
-    # --- checkpoint (simulation/state.py) ---------------------------------------------
+    # --- checkpoint (io/run_state.py) ---------------------------------------------
     def save_state(self) -> dict[str, Any]:
         """The scenario's share of the run state: the mesh (with its boundary labels, which
         deposition changes), the flow history, the mover, the diagnostics history (animation

@@ -28,10 +28,10 @@ from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.checkpoint import write_checkpoint
 from granflow.io.frames import write_frame
 from granflow.io.run_dir import RunDir, atomic_write_bytes
+from granflow.io.run_state import SimulationState
 from granflow.io.vtk import VtkSeries
 from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state import SimulationState
 
 DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
                       "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",

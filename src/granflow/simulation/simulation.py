@@ -135,7 +135,7 @@ class Simulation:
         """Momentum solves (every solve with a factorised matrix) plus mesh-velocity solves."""
         return self.momentum_solves + getattr(self.mesh_motion, "velocity_solves", 0)
 
-    # --- checkpoint (simulation/state.py) ------------------------------------------------
+    # --- checkpoint (io/run_state.py) ------------------------------------------------
     def save_state(self) -> dict[str, Any]:
         """The loop's share of the run state: time, step, counters, policy, criteria."""
         return {
