@@ -32,7 +32,7 @@ import granflow.fem.nonlinear as nonlinear
 from granflow.config import load_config
 from granflow.fem.forms import _symbols
 from granflow.io.run_dir import atomic_write_text
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 
 
 def median_ms(call: Callable[[], object], repeat: int) -> float:

@@ -31,7 +31,7 @@ import scipy.sparse.linalg as spla
 from granflow.config import load_config
 from granflow.fem.linalg import pardiso_available
 from granflow.io.run_dir import atomic_write_text
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 
 
 def median_ms(call: Callable[[], object], repeat: int) -> float:

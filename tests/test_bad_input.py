@@ -24,7 +24,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import granflow.simulation.runner as runner
+import granflow.runner as runner
 from granflow.cli import main
 from granflow.config import MAX_TRIANGLES, SECTIONS, load_config
 

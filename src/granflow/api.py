@@ -228,7 +228,7 @@ def run(case: str | Path | Config, overrides: Mapping[str, Any] | Sequence[str] 
     """
     config, label = _resolve(case, overrides)
     check_solver(config)
-    from granflow.simulation.runner import run_simulation
+    from granflow.runner import run_simulation
 
     run_dir = RunDir.create(Path(out) if out is not None else fresh_folder(label), force=force)
     with run_dir.lock():

@@ -221,7 +221,7 @@ def _resume(args: argparse.Namespace) -> int:
     config = load_config(str(root / "config.toml"), args.overrides)
     check_solver(config)
     from granflow.io.checkpoint import read_checkpoint
-    from granflow.simulation.runner import run_simulation
+    from granflow.runner import run_simulation
 
     run_dir = RunDir(root)
     with run_dir.lock():   # refuse before reading: the run may still be writing it

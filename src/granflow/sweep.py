@@ -146,7 +146,7 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
         return row | {"status": "failed", "message": f"invalid configuration: {err}"}
     from granflow.config import config_to_toml
     from granflow.io.checkpoint import CheckpointError, read_checkpoint
-    from granflow.simulation.runner import run_simulation
+    from granflow.runner import run_simulation
 
     try:
         status = RunDir.status(folder)

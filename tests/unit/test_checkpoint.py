@@ -26,7 +26,7 @@ from granflow.io.checkpoint import (
 )
 from granflow.io.run_dir import RunDir
 from granflow.io.run_state import SimulationState
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 
 
 def assert_same(a: Any, b: Any, where: str = "state") -> None:

@@ -22,7 +22,7 @@ import pytest
 
 from granflow.config import SECTIONS, Config, ConfigError, load_config, parse_value
 from granflow.io.run_dir import RunDir
-from granflow.simulation.runner import run_simulation
+from granflow.runner import run_simulation
 
 TINY = {
     "column": ("trapezoid-erodible", [

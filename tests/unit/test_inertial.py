@@ -10,7 +10,7 @@ from granflow.diagnostics.inertial import InertialNumbers
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.sampling import cell_means
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 
 
 def test_quantiles_of_the_histogram_match_the_weighted_sample_within_a_bin() -> None:

@@ -6,7 +6,7 @@ import pytest
 from granflow.config import load_config
 from granflow.fem import linalg
 from granflow.fem.linalg import ReusableLU, direct_solver
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 
 
 @pytest.mark.parametrize("solver", ["pardiso", "pardiso-metis", "umfpack"])

@@ -10,7 +10,7 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
 from granflow.physics import CoulombFriction, DruckerPrager
-from granflow.simulation.runner import build_problem
+from granflow.runner import build_problem
 from granflow.verify import run_cell
 
 

@@ -7,8 +7,8 @@ import ngsolve as ngs
 import pytest
 
 from granflow.config import load_config
+from granflow.runner import build_problem
 from granflow.scenarios.plug_flow import build_plug_flow
-from granflow.simulation.runner import build_problem
 
 CELL = ["time.dt=1.25e-2", "mesh.size=0.25", "geometry.length=0.5", "mesh.cells_x=2",
         "time.output_times=[]", "numerics.mesh_velocity=fixed"]
