@@ -24,10 +24,10 @@ GB_PER_TRIANGLE = 33e-6   # peak memory growth per triangle (benchmarks/scaling.
 def problems(c: Config) -> Iterator[str]:
     """Cross-field checks."""
     t, g, m = c.time, c.geometry, c.mesh
-    fewest_steps = t.t_end / (t.dt if t.dt is not None else t.dt_max)
+    key, step = ("time.dt", t.dt) if t.dt is not None else ("time.dt_max", t.dt_max)
+    fewest_steps = t.t_end / step
     if fewest_steps > MAX_STEPS:
-        key = "time.dt" if t.dt is not None else "time.dt_max"
-        yield (f"{key} = {t.dt if t.dt is not None else t.dt_max!r} needs at least "
+        yield (f"{key} = {step!r} needs at least "
                f"{fewest_steps:.2g} steps to time.t_end = {t.t_end!r} (at most {MAX_STEPS:.0e} "
                f"allowed: weeks of computing); use {key} >= {t.t_end / MAX_STEPS:.2g}")
     if t.dt_init > t.dt_max:

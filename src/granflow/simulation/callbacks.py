@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
@@ -55,8 +54,6 @@ class ProgressBar:
         self.bar = tqdm(total=t_end, initial=initial, unit="s", disable=not enabled,
                         dynamic_ncols=True,
                         bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}]{postfix}")
-        self.t_end, self.started = t_end, time.monotonic()
-        self.initial = initial
 
     def __call__(self, sim: Simulation) -> None:
         self.bar.update(sim.dt)
@@ -66,12 +63,13 @@ class ProgressBar:
             refresh=False)
 
     def _eta(self, t: float) -> str:
-        """Remaining wall time at the average pace so far; none in the first tenth of the
-        run, whose tiny starting steps would predict hours."""
-        done = t - self.initial
-        if done < 0.1 * (self.t_end - self.initial) or done <= 0:
+        """Remaining wall time at the average pace so far (from the bar's own clock and
+        start); none in the first tenth of the run, whose tiny first steps predict hours."""
+        bar = self.bar
+        done, total = t - bar.initial, bar.total - bar.initial
+        if not self.enabled or done <= 0 or done < 0.1 * total:
             return ""
-        remaining = (time.monotonic() - self.started) * (self.t_end - t) / done
+        remaining = bar.format_dict["elapsed"] * (bar.total - t) / done
         return f" eta<{remaining:.0f}s"
 
     def close(self, note: str = "") -> None:
