@@ -65,9 +65,11 @@ class ProgressBar:
     def _eta(self, t: float) -> str:
         """Remaining wall time at the average pace so far (from the bar's own clock and
         start); none in the first tenth of the run, whose tiny first steps predict hours."""
+        if not self.enabled:          # a disabled tqdm keeps no count or clock
+            return ""
         bar = self.bar
         done, total = t - bar.initial, bar.total - bar.initial
-        if not self.enabled or done <= 0 or done < 0.1 * total:
+        if done <= 0 or done < 0.1 * total:
             return ""
         remaining = bar.format_dict["elapsed"] * (bar.total - t) / done
         return f" eta<{remaining:.0f}s"
