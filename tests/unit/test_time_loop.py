@@ -7,8 +7,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from granflow.ale.mesh_motion import MoveFailure
-from granflow.fem.nonlinear import IterationReport
+from granflow.simulation.outcomes import IterationReport, MoveFailure
 from granflow.simulation.simulation import STALL_STEPS, Simulation
 from granflow.simulation.timestep import AdaptiveStep, RampedStep, fixed_step
 

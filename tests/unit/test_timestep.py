@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
-from granflow.fem.nonlinear import IterationReport
+from granflow.simulation.outcomes import IterationReport
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.timestep import (

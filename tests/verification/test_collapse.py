@@ -6,13 +6,13 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from granflow.ale.mesh_motion import MoveFailure
 from granflow.config import load_config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.geometry.mesh import BED, SURFACE, polygon_mesh, signed_areas
 from granflow.physics import CoulombFriction, DruckerPrager
 from granflow.scenarios.column import build_column
+from granflow.simulation.outcomes import MoveFailure
 
 COARSE = ["mesh.size=0.04", "time.dt=1e-3", "numerics.tol=1e-3", "time.output_times=[]"]
 

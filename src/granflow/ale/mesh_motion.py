@@ -7,7 +7,6 @@ once and reassembled on the moved mesh.
 
 from __future__ import annotations
 
-from enum import Enum
 from typing import Protocol
 
 import ngsolve as ngs
@@ -15,6 +14,7 @@ import numpy as np
 
 from granflow.fem.linalg import ReusableLU
 from granflow.geometry.mesh import BED, SURFACE, signed_areas
+from granflow.simulation.outcomes import MoveFailure
 
 
 def vertex_values(field: ngs.GridFunction) -> np.ndarray:
@@ -27,18 +27,6 @@ def move_mesh(mesh: ngs.Mesh, displacement: np.ndarray) -> None:
     """Apply the map (3.1) X -> X + dt w at the vertices, in place (straight edges)."""
     coords = mesh.ngmesh.Coordinates()
     coords += displacement
-
-
-class MoveFailure(Enum):
-    """Why a mesh move was refused; the first two can be cured by remeshing."""
-
-    INVERTED = "inverted triangle(s) after the mesh move"
-    SELF_INTERSECTS = "the boundary polygon self-intersects (the surface folded through)"
-    CROSSED_WALL = "a boundary node crossed the bed or the wall"
-
-    @property
-    def remeshable(self) -> bool:
-        return self in (MoveFailure.INVERTED, MoveFailure.SELF_INTERSECTS)
 
 
 class _LinearMeshVelocity:

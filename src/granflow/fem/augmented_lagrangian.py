@@ -60,8 +60,9 @@ import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.forms import Symbols, strain_rate
-from granflow.fem.nonlinear import IterationReport, NonlinearSolver
+from granflow.fem.nonlinear import NonlinearSolver
 from granflow.physics import DruckerPrager
+from granflow.simulation.outcomes import IterationReport
 
 CONSTRAINT_TOL = 1e-2      # relative primal and dual residuals at convergence
 PRESSURE_TOL = 1e-3        # relative change of kappa's pressure p* at convergence (floor)

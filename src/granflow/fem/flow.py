@@ -23,16 +23,12 @@ from granflow.fem.forms import (
     residual_form,
     strain_rate,
 )
-from granflow.fem.nonlinear import (
-    FixedPointSystem,
-    IterationReport,
-    NonlinearSolver,
-    ResidualSystem,
-)
+from granflow.fem.nonlinear import FixedPointSystem, NonlinearSolver, ResidualSystem
 from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
+from granflow.simulation.outcomes import IterationReport
 
 
 class FlowSolver:

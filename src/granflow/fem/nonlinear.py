@@ -10,55 +10,18 @@ max(||u||, floor |Omega|^1/2).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from enum import Enum
 from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 
 from granflow.fem.linalg import ReusableLU
+from granflow.simulation.outcomes import IterationReport
 
 if TYPE_CHECKING:
     from granflow.fem.primal_dual import DualVariable
 
 NEWTON_MIN_DAMPING = 1.0 / 64   # below this damping factor Newton has stalled
 PICARD_FALLBACK_ITERATIONS = 4  # fixed-point iterations run when Newton stalls
-
-
-class Failure(Enum):
-    """Why a nonlinear solve did not deliver a solution."""
-
-    NOT_CONVERGED = "the nonlinear iteration did not converge"
-    NON_FINITE = "the nonlinear iteration produced non-finite values"
-
-
-@dataclass(frozen=True)
-class IterationReport:
-    """Outcome of one nonlinear solve.
-
-    ``iterations`` counts nonlinear iterations (one linearisation and factorisation each);
-    ``linear_solves`` counts every solve with a factorised matrix, including the
-    back-substitutions of Newton's damping test.
-    """
-
-    converged: bool
-    iterations: int
-    relative_change: float
-    finite: bool = True
-    linear_solves: int = -1
-    newton_iterations: int = 0
-    picard_iterations: int = 0
-    fallbacks: int = 0
-
-    def __post_init__(self) -> None:
-        if self.linear_solves < 0:
-            object.__setattr__(self, "linear_solves", self.iterations)
-
-    @property
-    def failure(self) -> Failure | None:
-        if not self.finite:
-            return Failure.NON_FINITE
-        return None if self.converged else Failure.NOT_CONVERGED
 
 
 class FixedPointSystem:

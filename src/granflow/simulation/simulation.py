@@ -1,7 +1,9 @@
 """The time loop: mesh velocity -> move -> nonlinear solve -> accept/reject (section 3.3).
 
 It owns the stop criteria and says why it stopped; observers read the state after each
-accepted step and never change it. It knows no file format.
+accepted step and never change it. It knows no file format and no finite-element engine:
+the solver, the mesh motion and the remesher are protocols (``FlowStep``, ``MeshMotion``,
+``Remesher``), so the loop imports and runs without NGSolve.
 
 A step is accepted only when the move left a valid mesh, the nonlinear solve converged
 and the step policy accepts its local error; otherwise the move is undone and the step
@@ -19,10 +21,19 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Protocol
 
-from granflow.ale.mesh_motion import MoveFailure
-from granflow.fem.flow import FlowSolver
-from granflow.fem.nonlinear import Failure, IterationReport
+from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure
 from granflow.simulation.timestep import LocalError, StepPolicy, StepTooSmall
+
+
+class FlowStep(Protocol):
+    """The flow solver as the loop sees it (``fem/flow.py``'s FlowSolver): one implicit
+    step, its local error estimate, and accepting or undoing it."""
+
+    def solve_step(self, dt: float, tol: float, max_iterations: int,
+                   velocity_floor: float = 0.0) -> IterationReport: ...
+    def local_error(self, dt: float) -> tuple[float, float] | None: ...
+    def accept(self, dt: float | None = None) -> None: ...
+    def reject(self) -> None: ...
 
 
 class MeshMotion(Protocol):
@@ -94,7 +105,7 @@ class _Attempt:
 
 @dataclass
 class Simulation:
-    solver: FlowSolver
+    solver: FlowStep
     steps_policy: StepPolicy
     t_end: float
     max_iterations: int
@@ -126,7 +137,7 @@ class Simulation:
     _remesh_error: str = field(default="", repr=False)
     _window: tuple[int, float, dict[str, int]] | None = field(default=None, repr=False)
 
-    def replace(self, solver: FlowSolver, mesh_motion: MeshMotion) -> None:
+    def replace(self, solver: FlowStep, mesh_motion: MeshMotion) -> None:
         """Continue on a new mesh (after a remesh): same time, counters and policy."""
         self.solver, self.mesh_motion = solver, mesh_motion
 
