@@ -22,7 +22,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from granflow.io.run_dir import atomic_file, atomic_write_text
+from granflow.io.plots import save_figure
+from granflow.io.run_dir import atomic_write_text
 
 SHAPES = ["trapezoid-rigid", "rectangle-rigid"]
 RUNS = [("paper", "default mesh, dt_max 1e-4"), ("fine-mesh", "mesh size / 2"),
@@ -85,17 +86,11 @@ def main() -> None:
         axes[0].set_title(shape)
         axes[0].legend(fontsize=8)
         (out / "figures").mkdir(exist_ok=True)
-        _save(fig, out / "figures" / f"convergence_{shape}.png", dpi=120, bbox_inches="tight")
+        save_figure(fig, out / "figures" / f"convergence_{shape}.png", dpi=120)
         plt.close(fig)
     table = "\n".join(lines)
     print(table)
     atomic_write_text(out / "convergence.md", table + "\n")
-
-
-def _save(fig: object, path: Path, **kwargs: object) -> None:
-    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
-    with atomic_file(path) as tmp:
-        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
 
 
 if __name__ == "__main__":

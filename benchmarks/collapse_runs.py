@@ -9,31 +9,9 @@ stop time, front stop time, runout, volume error, wall time, steps and linear so
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
-import granflow
-from granflow.config import load_config
-from granflow.io.run_dir import RunDir, atomic_write_text
-
-KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_iterations",
-        "linear_solves", "wall_time_s", "stop_time_s", "front_stop_time_s",
-        "front_settle_time_s", "runout_m",
-        "wall_height_m", "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
-        "surface_edge_spread", "remeshes"]
-
-
-def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path) -> dict:
-    """Run each scenario with ``overrides`` into OUT/TAG/SCENARIO; write OUT/TAG.json."""
-    results = {}
-    for name in scenarios:
-        config = load_config(name, overrides)
-        run_dir = granflow.run(config, out=out / tag / name, force=True)
-        summary = RunDir.summary(run_dir.root)
-        results[name] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
-        print(tag, name, json.dumps(results[name], indent=1), flush=True)
-    atomic_write_text(out / f"{tag}.json", json.dumps(results, indent=2))
-    return results
+from common.runs import run_variant
 
 
 def main() -> None:

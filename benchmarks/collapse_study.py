@@ -17,7 +17,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from collapse_runs import run_variant
+from common.runs import run_variant
 
 SHAPES = ["trapezoid-rigid", "rectangle-rigid"]
 HALF = {"trapezoid-rigid": "mesh.size=0.0105", "rectangle-rigid": "mesh.size=0.007"}

@@ -8,7 +8,6 @@ and OUT/figures/mesh_velocity_comparison.png (free surfaces of (3.6) and (3.7) a
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
@@ -18,7 +17,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from granflow.io.run_dir import atomic_file, atomic_write_text
+from granflow.io import profiles  # noqa: E402
+from granflow.io.plots import save_figure
+from granflow.io.run_dir import atomic_write_text
 
 OUT = Path("benchmarks/results/collapse")
 COLUMNS = ["status", "stop_time_s", "front_stop_time_s", "front_settle_time_s", "runout_m",
@@ -28,11 +29,8 @@ COLUMNS = ["status", "stop_time_s", "front_stop_time_s", "front_settle_time_s", 
 
 
 def surface(run: Path, t: float) -> np.ndarray | None:
-    path = run / "profiles" / f"free_surface_t{t:.3f}.csv"
-    if not path.exists():
-        return None
-    with open(path) as fh:
-        return np.array([[float(r["x"]), float(r["z"])] for r in csv.DictReader(fh)])
+    """The free surface the run wrote at output time t (None if it did not)."""
+    return profiles.curves(run, "free_surface", [t]).get(t)
 
 
 def main() -> None:
@@ -73,13 +71,7 @@ def main() -> None:
                    xlabel="X (m)", ylabel="Z (m)")
     axes[0][0].legend(fontsize=7)
     (OUT / "figures").mkdir(exist_ok=True)
-    _save(fig, OUT / "figures" / "mesh_velocity_comparison.png", dpi=120, bbox_inches="tight")
-
-
-def _save(fig: object, path: Path, **kwargs: object) -> None:
-    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
-    with atomic_file(path) as tmp:
-        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
+    save_figure(fig, OUT / "figures" / "mesh_velocity_comparison.png", dpi=120)
 
 
 if __name__ == "__main__":

@@ -23,7 +23,9 @@ import numpy as np
 import granflow
 from granflow.config import load_config
 from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import atomic_file, atomic_write_text
+from granflow.io import profiles
+from granflow.io.plots import save_figure
+from granflow.io.run_dir import atomic_write_text
 
 VARIANTS: dict[str, tuple[str, list[str], str | None]] = {
     # name: (scenario, overrides, reference variant for the surface comparison)
@@ -60,12 +62,8 @@ def bulk_stop(run: Path, fraction: float = 0.01) -> float | None:
 
 
 def surfaces(run: Path) -> dict[float, np.ndarray]:
-    out = {}
-    for t in TIMES:
-        f = run / "profiles" / f"free_surface_t{t:.3f}.csv"
-        if f.exists():
-            out[t] = np.loadtxt(f, delimiter=",", skiprows=1)
-    return out
+    """The free surfaces at TIMES that the run wrote."""
+    return profiles.curves(run, "free_surface", TIMES)
 
 
 def eroding_mass(surface: np.ndarray, layer: float = 0.005) -> np.ndarray:
@@ -132,13 +130,7 @@ def plot(out: Path) -> None:
     axes[0].legend(fontsize=8, loc="upper center")
     axes[-1].set_xlabel("X (m)")
     fig.tight_layout()
-    _save(fig, out / "free_surfaces.png", dpi=110)
-
-
-def _save(fig: object, path: Path, **kwargs: object) -> None:
-    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
-    with atomic_file(path) as tmp:
-        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
+    save_figure(fig, out / "free_surfaces.png", dpi=110)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,6 @@ Newton, eps = 1e-6. Writes OUT/incline.json and OUT/incline.md.
 from __future__ import annotations
 
 import argparse
-import csv
 import dataclasses
 import json
 import math
@@ -30,6 +29,7 @@ import numpy as np
 
 import granflow
 from granflow.config import load_config
+from granflow.io import profiles
 from granflow.io.run_dir import RunDir, atomic_write_text
 from granflow.physics import MuI
 from granflow.reference.incline import bagnold_profile
@@ -46,17 +46,20 @@ CASES = {   # name: overrides of incline-mu-i
 }
 
 
-def profile(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """(z, u_x) of a profiles/velocity_t*.csv file."""
-    with open(path, newline="") as fh:
-        rows = [(float(r["z"]), float(r["u_x"])) for r in csv.DictReader(fh)]
-    z, u = np.array(rows).T
-    return z, u
+def profile(found: profiles.ProfileFile) -> tuple[np.ndarray, np.ndarray]:
+    """(z, u_x) of a velocity profile."""
+    data = found.read()
+    return data["z"], data["u_x"]
+
+
+def output_profiles(run_dir: Path) -> list[profiles.ProfileFile]:
+    """The velocity profiles at the output times, in time order."""
+    return [p for p in profiles.list_profiles(run_dir, "velocity") if not p.final]
 
 
 def steadiness(run_dir: Path) -> float:
     """|u_surface(8 s) - u_surface(6 s)| / u_surface(8 s)."""
-    (_, u6), (_, u8) = (profile(p) for p in sorted((run_dir / "profiles").glob("*.csv")))
+    (_, u6), (_, u8) = (profile(p) for p in output_profiles(run_dir))
     return abs(u8[-1] - u6[-1]) / abs(u8[-1])
 
 
@@ -68,7 +71,7 @@ def bagnold_error(config, run_dir: Path) -> float | None:
     law0 = dataclasses.replace(law, viscosity=0.0)
     exact = bagnold_profile(height=HEIGHT, slope_deg=config.geometry.slope_deg, law=law0,
                             density=config.material.density, gravity=config.material.gravity)
-    z, u = profile(sorted((run_dir / "profiles").glob("*.csv"))[-1])
+    z, u = profile(output_profiles(run_dir)[-1])
     ref = exact(z)
     return math.sqrt(np.trapezoid((u - ref) ** 2, z) / np.trapezoid(ref**2, z))
 

@@ -19,7 +19,8 @@ import argparse
 import json
 from pathlib import Path
 
-from rheologies import SCENARIO, SETUP, curves, distances
+from common.cases import SCENARIO, SETUP
+from common.runs import distances_mm
 
 import granflow
 from granflow.config import load_config
@@ -54,10 +55,9 @@ def main() -> None:
             row = run(args.shape, law, level, args.out)
             if level > 0:
                 before = rows[law][-1]
-                surfaces = distances(
-                    curves(args.out / "runs" / f"{args.shape}-{law}-h{level - 1}",
-                           "free_surface"),
-                    curves(args.out / "runs" / f"{args.shape}-{law}-h{level}", "free_surface"))
+                surfaces = distances_mm(
+                    args.out / "runs" / f"{args.shape}-{law}-h{level - 1}",
+                    args.out / "runs" / f"{args.shape}-{law}-h{level}")
                 row["change_from_coarser"] = {
                     "runout_mm": 1e3 * (row["runout_m"] - before["runout_m"]),
                     "stop_time_s": row["stop_time_s"] - before["stop_time_s"],

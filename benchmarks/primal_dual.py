@@ -22,7 +22,8 @@ import statistics
 import sys
 from pathlib import Path
 
-from speed import CASES, run, surfaces
+from common.cases import CASES
+from common.runs import run_summary, surfaces_m
 
 from granflow.io.run_dir import atomic_write_text
 
@@ -43,7 +44,7 @@ def compare(name: str, repeat: int, out: Path) -> dict:
     walls: dict[str, list[float]] = {label: [] for label in VARIANTS}
     for k in range(repeat):
         for label, extra in VARIANTS.items():
-            summary = run(scenario, [*common, *extra], out / name / f"{label}{k}")
+            summary = run_summary(scenario, [*common, *extra], out / name / f"{label}{k}")
             walls[label].append(summary["wall_time_s"])
             result[label] = summary
             print(name, label, k, json.dumps({x: summary[x] for x in (
@@ -59,7 +60,7 @@ def compare(name: str, repeat: int, out: Path) -> dict:
     if b.get("stop_time_s") and p.get("stop_time_s"):
         result["stop_time_relative_difference"] = p["stop_time_s"] / b["stop_time_s"] - 1
     if scenario != "plug-flow":
-        result["surfaces"] = surfaces(out / name / "B0", out / name / "P0")
+        result["surfaces"] = surfaces_m(out / name / "B0", out / name / "P0")
     return result
 
 

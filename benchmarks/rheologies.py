@@ -30,57 +30,28 @@ from __future__ import annotations
 
 import argparse
 import json
-import tomllib
 from pathlib import Path
 
-import numpy as np
-from erodible import _save
+from common.cases import SCENARIO, SETUP
+from common.runs import distances_mm
 
 import granflow
 from granflow.config import ConfigError, load_config
-from granflow.diagnostics.compare import surface_distance
+from granflow.io import profiles
+from granflow.io.plots import save_figure
 from granflow.io.run_dir import atomic_write_text
 
-SETUP = ["time.adaptive=false", "time.dt=1e-3", "numerics.tol=1e-3", "time.t_end=2.0",
-         "time.stop_at_rest=true"]
 # The regularised law with the paper's iteration (3.2), the method section 5.2 timed against
 # ALG2 (and what these tables used before the column scenarios defaulted to primal-dual).
 LAWS = {"drucker-prager": ["numerics.linearization=picard"],
         "mu-i": ["material.rheology=mu-i"],
         "augmented-lagrangian": ["numerics.method=augmented-lagrangian"]}
-SCENARIO = {"trapezoid": "trapezoid-rigid", "rectangle": "rectangle-rigid",
-            "trapezoid-erodible": "trapezoid-erodible"}
 DEFAULT_SHAPES = ["trapezoid", "rectangle"]
 # over the erodible layer the scenario's own steps (adaptive, deposition and tension limits)
 SETUP_ERODIBLE = ["time.t_end=2.0", "time.stop_at_rest=true"]
 PAPER_AL_RATIO = {"trapezoid": 7.8, "rectangle": 5.0}   # section 5.2: AL time / regularised
 KEYS = ["status", "message", "t_final", "steps", "nonlinear_iterations", "linear_solves",
         "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m"]
-
-
-def output_times(run: Path) -> list[float]:
-    """The paper's times of the scenario (trapezoid and rectangle differ)."""
-    return tomllib.loads((run / "config.toml").read_text())["time"]["output_times"]
-
-
-def curves(run: Path, kind: str) -> dict[float, np.ndarray]:
-    """Free surfaces (kind "free_surface") or static/flowing interfaces ("interface",
-    |u| > 1 mm/s; undefined columns dropped) at the paper's times, where they exist."""
-    out = {}
-    for t in output_times(run):
-        f = run / "profiles" / f"{kind}_t{t:.3f}.csv"
-        if f.exists():
-            data = np.loadtxt(f, delimiter=",", skiprows=1, ndmin=2)
-            data = data[np.isfinite(data).all(axis=1)]
-            if len(data) >= 2:
-                out[t] = data
-    return out
-
-
-def distances(a: dict[float, np.ndarray], b: dict[float, np.ndarray]) -> dict[str, list]:
-    """Mean and max distance (mm) between two families of curves, time by time."""
-    return {f"{t:g}": [round(1e3 * x, 2) for x in surface_distance(a[t], b[t])]
-            for t in a if t in b}
 
 
 def run_case(shape: str, law: str, out: Path, rerun: bool,
@@ -115,7 +86,7 @@ def main() -> None:
                 ref, run = args.out / "runs" / f"{shape}-drucker-prager", \
                     args.out / "runs" / f"{shape}-{law}"
                 for kind in ("free_surface", "interface"):
-                    row[f"{kind}_vs_dp_mm"] = distances(curves(ref, kind), curves(run, kind))
+                    row[f"{kind}_vs_dp_mm"] = distances_mm(ref, run, kind)
             rows.append(row)
             print(json.dumps(row), flush=True)
         plot(args.out, shape)
@@ -161,7 +132,7 @@ def plot(out: Path, shape: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    runs = {law: curves(out / "runs" / f"{shape}-{law}", "free_surface") for law in LAWS
+    runs = {law: profiles.curves(out / "runs" / f"{shape}-{law}", "free_surface") for law in LAWS
             if (out / "runs" / f"{shape}-{law}" / "config.toml").exists()}
     runs = {law: family for law, family in runs.items() if family}
     if "drucker-prager" not in runs:
@@ -178,7 +149,7 @@ def plot(out: Path, shape: str) -> None:
     axes[0].legend(fontsize=8, loc="upper center")
     axes[-1].set_xlabel("X (m)")
     fig.tight_layout()
-    _save(fig, out / f"{shape}_free_surfaces.png", dpi=110)
+    save_figure(fig, out / f"{shape}_free_surfaces.png", dpi=110)
 
 
 if __name__ == "__main__":

@@ -23,7 +23,8 @@ import sys
 import time
 from pathlib import Path
 
-from granflow.io.run_dir import atomic_file, atomic_write_text
+from granflow.io.plots import save_figure
+from granflow.io.run_dir import atomic_write_text
 
 REFERENCE = (329, 0.021)  # triangles of the trapezoid at mesh.size 0.021 m
 
@@ -136,13 +137,7 @@ def main(argv: list[str]) -> None:
     ax.set_title(f"Trapezoid, one core, {rows[0]['solver']}")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    _save(fig, args.out / f"scaling-{rows[0]['solver']}.png", dpi=120)
-
-
-def _save(fig: object, path: Path, **kwargs: object) -> None:
-    """savefig to a temporary file, renamed over ``path`` (a killed run leaves no half PNG)."""
-    with atomic_file(path) as tmp:
-        fig.savefig(tmp, **kwargs)  # type: ignore[attr-defined]
+    save_figure(fig, args.out / f"scaling-{rows[0]['solver']}.png", dpi=120)
 
 
 if __name__ == "__main__":

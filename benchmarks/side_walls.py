@@ -17,10 +17,11 @@ import json
 from pathlib import Path
 
 import numpy as np
-from rheologies import curves, distances
+from common.runs import distances_mm
 
 import granflow
 from granflow.config import load_config
+from granflow.io import profiles
 from granflow.io.run_dir import RunDir, atomic_write_text
 
 KEYS = ["status", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m", "steps",
@@ -48,10 +49,10 @@ def main() -> None:
                          **{k: summary.get(k) for k in KEYS}})
             print(json.dumps(rows[-1]), flush=True)
         plain, walled = (args.out / "runs" / f"{scenario}_{k}" for k in ("plain", "walls"))
-        rows[-1]["free_surface_vs_plain_mm"] = distances(curves(plain, "free_surface"),
-                                                         curves(walled, "free_surface"))
-        interfaces = curves(plain, "interface"), curves(walled, "interface")
-        rows[-1]["interface_vs_plain_mm"] = distances(*interfaces)
+        rows[-1]["free_surface_vs_plain_mm"] = distances_mm(plain, walled)
+        interfaces = (profiles.curves(plain, "interface"),
+                      profiles.curves(walled, "interface"))
+        rows[-1]["interface_vs_plain_mm"] = distances_mm(plain, walled, "interface")
         rows[-1]["interface_rise_mm"] = rise(*interfaces)
         print(json.dumps(rows[-1]), flush=True)
     write(args.out, rows, args.width, args.angle)

@@ -22,61 +22,16 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-import numpy as np
+from common.cases import CASES, PAPER, TODAY
+from common.runs import run_summary, surfaces_m
 
-import granflow
-from granflow.config import load_config
-from granflow.diagnostics.compare import surface_distance
-from granflow.io.run_dir import RunDir, atomic_write_text
-
-PAPER = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
-         "time.dt_growth=1.1", "time.dt_max=1e-4", "numerics.tol=1e-4",
-         "numerics.tol_init=1e-6", "numerics.ale_extrapolation=false",
-         "numerics.initial_guess=previous",
-         "time.stop_at_rest=false"]
-PAPER_TO_REST = [o for o in PAPER if not o.startswith("time.stop_at_rest")]
-# the first verified runs: the paper's algorithm without quality remeshing, with UMFPACK
-TODAY = ["mesh.remesh_quality=0", "numerics.linear_solver=umfpack"]
-PLUG_PAPER = ["numerics.linearization=picard"]           # the plug flow's fixed dt and tol
-CASES: dict[str, tuple[str, list[str], list[str]]] = {
-    # name: (scenario, overrides of both, overrides of A only)
-    "trapezoid": ("trapezoid-rigid", [], PAPER),
-    "rectangle": ("rectangle-rigid", [], PAPER),
-    "erodible": ("trapezoid-erodible", [], PAPER),     # A takes hours: run it on its own
-    "plug-flow": ("plug-flow", ["numerics.eps=1e-6", "mesh.size=0.125", "time.t_end=0.2"],
-                  PLUG_PAPER),
-    # the column that stalled the fixed-point iteration near rest, and rectangles of
-    # l0 = 10 cm, h0/l0 = 0.5, 1, 2, both algorithms to rest
-    "stall": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.05",
-                                  "time.t_end=2", "time.output_times=[0.1,0.2,0.3]"],
-              PAPER_TO_REST),
-    "square": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.1",
-                                   "time.t_end=2", "time.output_times=[0.1,0.2,0.3,0.5]"],
-               PAPER_TO_REST),
-    "tall": ("rectangle-rigid", ["geometry.width=0.1", "geometry.height=0.2",
-                                 "time.t_end=2", "time.output_times=[0.1,0.2,0.3,0.5]"],
-             PAPER_TO_REST),
-}
-KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
-        "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
-        "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",
-        "n_triangles", "remeshes", "min_triangle_quality", "velocity_relative_error_l2",
-        "outputs_at_rest", "linear_solver"]
-
-
-def run(scenario: str, overrides: list[str], out: Path) -> dict:
-    config = load_config(scenario, [*overrides, "output.progress=false"])
-    shutil.rmtree(out, ignore_errors=True)     # never mix the files of two runs
-    run_dir = granflow.run(config, out=out, force=True)
-    summary = RunDir.summary(run_dir.root)
-    return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
+from granflow.io.run_dir import atomic_write_text
 
 
 def run_process(scenario: str, overrides: list[str], out: Path) -> dict:
@@ -92,19 +47,6 @@ def run_process(scenario: str, overrides: list[str], out: Path) -> dict:
             "status": summary["status"], "stop_time_s": summary.get("stop_time_s")}
 
 
-def surfaces(a: Path, b: Path) -> dict[str, dict[str, float]]:
-    """Mean and max distance (m) between the free surfaces of two runs at each output."""
-    out = {}
-    for file in sorted((a / "profiles").glob("free_surface_t*.csv")):
-        other = b / "profiles" / file.name
-        if other.exists():
-            first = np.loadtxt(file, delimiter=",", skiprows=1, ndmin=2)
-            second = np.loadtxt(other, delimiter=",", skiprows=1, ndmin=2)
-            mean, worst = surface_distance(first, second)
-            out[file.name[len("free_surface_t"):-4]] = {"mean_m": mean, "max_m": worst}
-    return out
-
-
 def compare(name: str, repeat: int, out: Path, today: bool = False,
             half_step: bool = False, process: bool = False) -> dict:
     scenario, common, paper = CASES[name]
@@ -117,7 +59,7 @@ def compare(name: str, repeat: int, out: Path, today: bool = False,
     walls: dict[str, list[float]] = {label: [] for label, _ in variants}
     for k in range(repeat):
         for label, extra in variants:
-            summary = run(scenario, [*common, *extra], out / name / f"{label}{k}")
+            summary = run_summary(scenario, [*common, *extra], out / name / f"{label}{k}")
             walls[label].append(summary["wall_time_s"])
             result[label] = summary
             print(name, label, k, json.dumps({x: summary[x] for x in (
@@ -137,16 +79,16 @@ def compare(name: str, repeat: int, out: Path, today: bool = False,
     if "A0" in walls:
         result["speedup_vs_today"] = (result["wall_time_median_s"]["A0"]
                                       / result["wall_time_median_s"]["B"])
-        result["surfaces_today"] = surfaces(out / name / "A00", out / name / "B0")
+        result["surfaces_today"] = surfaces_m(out / name / "A00", out / name / "B0")
     if "A_half" in walls:
-        result["surfaces_A_vs_A_half"] = surfaces(out / name / "A0", out / name / "A_half0")
-        result["surfaces_B_vs_A_half"] = surfaces(out / name / "B0", out / name / "A_half0")
+        result["surfaces_A_vs_A_half"] = surfaces_m(out / name / "A0", out / name / "A_half0")
+        result["surfaces_B_vs_A_half"] = surfaces_m(out / name / "B0", out / name / "A_half0")
     result["linear_solves_ratio"] = a["linear_solves"] / max(b["linear_solves"], 1)
     if a.get("runout_m") is not None and b.get("runout_m") is not None:
         result["runout_difference_m"] = b["runout_m"] - a["runout_m"]
         if a.get("stop_time_s") and b.get("stop_time_s"):
             result["stop_time_relative_difference"] = b["stop_time_s"] / a["stop_time_s"] - 1
-        result["surfaces"] = surfaces(out / name / "A0", out / name / "B0")
+        result["surfaces"] = surfaces_m(out / name / "A0", out / name / "B0")
     return result
 
 

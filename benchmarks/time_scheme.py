@@ -25,11 +25,9 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
 import granflow
 from granflow.config import load_config
-from granflow.diagnostics.compare import surface_distance
+from granflow.io import profiles
 from granflow.io.run_dir import RunDir, atomic_write_text
 
 PAPER_HALF_STEP = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
@@ -59,14 +57,8 @@ def ensure_run(name: str, root: Path, collect: bool) -> dict | None:
 
 
 def compare(run: Path, reference: Path, summary: dict, ref: dict) -> dict:
-    surfaces = {}
-    for file in sorted((reference / "profiles").glob("free_surface_t*.csv")):
-        other = run / "profiles" / file.name
-        if other.exists():
-            mean, worst = surface_distance(
-                np.loadtxt(file, delimiter=",", skiprows=1, ndmin=2),
-                np.loadtxt(other, delimiter=",", skiprows=1, ndmin=2))
-            surfaces[file.name[len("free_surface_t"):-4]] = {"mean_m": mean, "max_m": worst}
+    surfaces = {f"{t:.3f}": {"mean_m": mean, "max_m": worst}
+                for t, (mean, worst) in profiles.surface_distances(reference, run).items()}
     result = {"surfaces": surfaces,
               "surface_mean_m": max(s["mean_m"] for s in surfaces.values()),
               "surface_max_m": max(s["max_m"] for s in surfaces.values()),

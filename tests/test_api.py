@@ -85,3 +85,30 @@ def test_a_config_object_runs_like_the_command_line(tmp_path: Path) -> None:
     by_cli = granflow.load(tmp_path / "cli")
     assert by_api.summary.runout_m == by_cli.summary.runout_m
     assert by_api.summary.steps == by_cli.summary.steps
+
+
+def test_profiles_carry_their_time_and_units(run: granflow.Run) -> None:
+    """Every profile file ends with its time; units.json names each column's unit; the
+    reader finds the output times and the final state."""
+    from granflow.io import profiles
+
+    found = profiles.list_profiles(run.root, "free_surface")
+    assert [p.label for p in found] == ["t0.030", "t0.060", "final"]
+    for p in found:
+        data = p.read()
+        assert list(data) == ["x", "z", "t"] and np.all(data["t"] == p.t)
+    assert found[-1].t == pytest.approx(run.summary.t_final)
+    units = json.loads((run.root / "profiles" / "units.json").read_text())
+    assert units["x"] == "m" and units["u_x"] == "m/s" and units["t"] == "s"
+    sections = profiles.profile_at(run.root, "velocity_sections", 0.03)
+    assert sections is not None and set(sections) == {"section_x", "z", "u_x", "u_z", "t"}
+    assert profiles.surface_distances(run.root, run.root)[0.03] == (0.0, 0.0)
+
+
+def test_a_run_needs_its_folder_locked(tmp_path: Path) -> None:
+    from granflow.io.run_dir import RunDir, RunDirError
+    from granflow.runner import run_simulation
+
+    run_dir = RunDir.create(tmp_path / "unlocked")
+    with pytest.raises(RunDirError, match="must be locked"):
+        run_simulation(granflow.Config.load("rectangle-rigid"), run_dir)

@@ -133,3 +133,11 @@ def test_verify_exits_non_zero_when_a_cell_misses_its_bound(
     columns = slice(0, 7)   # the cells' figures (not the wall time, not the verdict)
     assert [r.split(",")[columns] for r in (tmp_path / "ok/table1.csv").read_text().split()] == [
         r.split(",")[columns] for r in (tmp_path / "bad/table1.csv").read_text().split()]
+
+
+def test_dropped_output_times_get_one_note_line(granflow_cli) -> None:
+    proc = granflow_cli("show", "rectangle-rigid", "--set", "time.t_end=0.4")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ("granflow: note: time.output_times [0.42, 0.5, 0.78, 1.06] of the "
+                           "scenario come after time.t_end = 0.4 s and are not written (set "
+                           "time.output_times to choose others)\n")

@@ -18,16 +18,12 @@ by someone else opens the same way. The command line is a thin layer over ``run`
 
 from __future__ import annotations
 
-import re
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
-from xml.etree import ElementTree
-
-import numpy as np
 
 from granflow.config import (
     CUSTOM,
@@ -38,11 +34,15 @@ from granflow.config import (
     load_config,
     toml_literal,
 )
+from granflow.io import profiles
+from granflow.io.diagnostics import read_diagnostics
 from granflow.io.run_dir import RunDir, RunDirError
 
 if TYPE_CHECKING:
     import matplotlib.pyplot as plt
     import pandas as pd
+
+    from granflow.io.vtk import Fields
 
 RUNS_FOLDER = Path("runs")
 OK_STATUSES = ("completed", "stopped")
@@ -80,25 +80,6 @@ class Summary:
         return self.status in OK_STATUSES
 
 
-@dataclass(frozen=True)
-class Fields:
-    """The finite-element fields of one VTU snapshot, at the mesh vertices and cells."""
-
-    t: float
-    points: np.ndarray                       # (n, 2) vertex coordinates, m
-    triangles: np.ndarray                    # (m, 3) vertex indices
-    point_data: dict[str, np.ndarray]        # e.g. velocity (n, 2), pressure (n,)
-    cell_data: dict[str, np.ndarray]
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        if name in self.point_data:
-            return self.point_data[name]
-        if name in self.cell_data:
-            return self.cell_data[name]
-        raise KeyError(f"no field {name!r}; fields: "
-                       f"{', '.join([*self.point_data, *self.cell_data])}")
-
-
 class Run:
     """A run directory opened for reading (see the module docstring)."""
 
@@ -124,9 +105,7 @@ class Run:
     @property
     def diagnostics(self) -> pd.DataFrame:
         """diagnostics.csv: one row per accepted step (t, dt, iterations, front, energy...)."""
-        import pandas as pd
-
-        return pd.read_csv(self.root / "diagnostics.csv")
+        return read_diagnostics(self.root)
 
     @property
     def surfaces(self) -> pd.DataFrame:
@@ -138,12 +117,11 @@ class Run:
         final_t = self.summary.extra.get("final_profiles_t")
         frames = []
         for kind in ("free_surface", "interface"):
-            for path in sorted((self.root / "profiles").glob(f"{kind}_*.csv")):
-                label = path.stem[len(kind) + 1:]
-                t = final_t if label == "final" else _time_of(label)
+            for found in profiles.list_profiles(self.root, kind):
+                t = found.t if found.t is not None else final_t
                 if t is None:
                     continue
-                data = pd.read_csv(path)
+                data = pd.DataFrame({k: found.read().get(k, []) for k in ("x", "z")})
                 frames.append(data.assign(t=float(t), kind=kind)[["t", "kind", "x", "z"]])
         if not frames:
             return pd.DataFrame(columns=["t", "kind", "x", "z"])
@@ -154,36 +132,20 @@ class Run:
     @property
     def output_times(self) -> list[float]:
         """The times of the VTU snapshots in fields/ (fields.pvd)."""
-        return [t for t, _ in self._snapshots()]
+        from granflow.io.vtk import snapshots
+
+        return [t for t, _ in snapshots(self.root)]
 
     def fields(self, t: float) -> Fields:
         """The snapshot at time ``t`` (the nearest one within 1e-6 s)."""
-        import meshio
+        from granflow.io.vtk import read_snapshot
 
-        snapshots = self._snapshots()
-        if not snapshots:
-            raise RunDirError(f"'{self.root}' holds no field snapshots (fields/fields.pvd)")
-        nearest, name = min(snapshots, key=lambda item: abs(item[0] - t))
-        if abs(nearest - t) > 1e-6:
-            raise ValueError(f"no snapshot at t = {t:g} s; snapshots at "
-                             f"{', '.join(f'{s:g}' for s, _ in snapshots)} s")
-        mesh = meshio.read(self.root / "fields" / name)
-        return Fields(t=nearest, points=mesh.points[:, :2], triangles=mesh.cells_dict["triangle"],
-                      point_data={k: _planar(v) for k, v in mesh.point_data.items()},
-                      cell_data={k: v[0] for k, v in mesh.cell_data.items()})
+        return read_snapshot(self.root, t)
 
     @cached_property
     def plot(self) -> RunPlots:
         """Figures of this run: ``run.plot.free_surfaces()``, ``run.plot.all()``."""
         return RunPlots(self)
-
-    def _snapshots(self) -> list[tuple[float, str]]:
-        index = self.root / "fields" / "fields.pvd"
-        if not index.is_file():
-            return []
-        tree = ElementTree.parse(index)
-        return [(float(e.get("timestep", "nan")), str(e.get("file")))
-                for e in tree.iter("DataSet") if e.get("file")]
 
 
 class RunPlots:
@@ -285,15 +247,3 @@ def _resolve(case: str | Path | Config,
         return config, "custom" if config.scenario == CUSTOM else config.scenario
     config = load_config(str(case), texts)
     return config, Path(str(case)).stem if config.scenario == CUSTOM else config.scenario
-
-
-def _time_of(label: str) -> float | None:
-    match = re.fullmatch(r"t([0-9.]+)", label)
-    return float(match.group(1)) if match else None
-
-
-def _planar(values: np.ndarray) -> np.ndarray:
-    """Vectors written as 3D for ParaView back to their two in-plane components."""
-    if values.ndim == 2 and values.shape[1] == 3 and not np.any(values[:, 2]):
-        return values[:, :2]
-    return values

@@ -20,13 +20,20 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from granflow import __version__
 from granflow.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
-from granflow.config import ConfigError, builtin_scenarios, config_to_toml, load_config
+from granflow.config import (
+    ConfigError,
+    ConfigNote,
+    builtin_scenarios,
+    config_to_toml,
+    load_config,
+)
 from granflow.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -47,13 +54,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``granflow`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
-        return args.command(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("default", ConfigNote)   # each note once
+            warnings.showwarning = _note
+            return args.command(args)
     except (ConfigError, RunDirError, CheckpointError, SweepError, ConvergeError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("granflow: interrupted", file=sys.stderr)
         return 130
+
+
+def _note(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+          file: object = None, line: str | None = None) -> None:
+    """A configuration note (``ConfigNote``) as one line; other warnings as Python shows them."""
+    if issubclass(category, ConfigNote):
+        print(f"granflow: note: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
 class _Parser(argparse.ArgumentParser):

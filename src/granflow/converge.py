@@ -18,7 +18,6 @@ the project's accuracy targets, :data:`DEFAULT_TOLERANCES`).
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +27,7 @@ import numpy as np
 
 from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
 from granflow.diagnostics.compare import surface_distance
+from granflow.io import profiles
 from granflow.io.run_dir import RunDir
 from granflow.sweep import FINISHED, SweepRun, run_all
 
@@ -41,7 +41,6 @@ TOLERANCE_MEANING = {
     "stop_time_rel": "stop times, relative to the finer level's",
     "runout": "m, runouts"}
 SCHEME_ORDER = {"implicit-euler": 1, "bdf2": 2}   # order q of the time scheme
-_SURFACE_FILE = re.compile(r"free_surface_t(\d+(?:\.\d+)?)\.csv")
 
 
 class ConvergeError(ValueError):
@@ -199,11 +198,11 @@ def read_level(folder: Path, level: int) -> Level:
     """A level from its run directory: summary.json and profiles/free_surface_t*.csv."""
     s = RunDir.summary(folder)
     surfaces = {}
-    for path in sorted((folder / "profiles").glob("free_surface_t*.csv")):
-        match = _SURFACE_FILE.fullmatch(path.name)
-        if match:
-            surfaces[float(match.group(1))] = np.loadtxt(path, delimiter=",", skiprows=1,
-                                                         ndmin=2)
+    for found in profiles.list_profiles(folder, "free_surface"):
+        if not found.final and found.t is not None:
+            data = found.read()
+            surfaces[found.t] = np.column_stack([data["x"], data["z"]]) if data else (
+                np.empty((0, 2)))
     return Level(level, folder.name, s.get("status"), s.get("message", "") or "",
                  s.get("stop_time_s"), s.get("runout_m"), s.get("steps"), s.get("wall_time_s"),
                  surfaces)

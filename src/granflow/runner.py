@@ -1,9 +1,11 @@
 """Runs a configured scenario into a run directory (its layout: docs/user_guide.md).
 
-The runner wires observers (diagnostics rows, profiles at output times, VTU snapshots, a
-progress bar, checkpoints) around a scenario's time loop, writes ``summary.json`` at the
-start (``running``) and at the end, also when the run fails or is interrupted: whatever was
-written before stays readable, and ``granflow resume`` continues from the checkpoint.
+The runner builds the problem, attaches the outputs to its time loop as named observers on
+schedules (each output owns its file and its reader: ``io/diagnostics.py``,
+``io/profiles.py``, ``io/fields.py``, ``io/frames.py``, ``io/checkpoint.py``), writes
+``summary.json`` at the start (``running``) and at the end, also when the run fails or is
+interrupted: whatever was written before stays readable, and ``granflow resume`` continues
+from the checkpoint. Figures are drawn last, from the files, by ``io/replot.py``.
 """
 
 from __future__ import annotations
@@ -14,34 +16,37 @@ import signal
 import threading
 import traceback
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any, Protocol
 
 import ngsolve as ngs
 import numpy as np
 
 from granflow.config import Config
-from granflow.diagnostics.state import FLOWING_SPEED, state_measures
+from granflow.diagnostics.state import state_measures
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import solver_in_use
-from granflow.fem.sampling import cell_means, triangles, vertex_samples
+from granflow.fem.sampling import cell_means
+from granflow.io import profiles
 from granflow.io.checkpoint import write_checkpoint
-from granflow.io.frames import write_frame
-from granflow.io.run_dir import RunDir, atomic_write_bytes
+from granflow.io.diagnostics import COLUMNS as DIAGNOSTIC_COLUMNS
+from granflow.io.diagnostics import DiagnosticsLog
+from granflow.io.fields import FieldSnapshots
+from granflow.io.frames import INTERVAL_S as ANIMATION_INTERVAL_S
+from granflow.io.frames import AnimationFrames
+from granflow.io.replot import draw_figures
+from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
-from granflow.io.vtk import VtkSeries
 from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
 from granflow.simulation.simulation import RunResult, Simulation
 
-DIAGNOSTIC_COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
-                      "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
-                      "local_error", "tension_on", "tension_x", "area_correction",
-                      "remesh_area_change"]
-ANIMATION_INTERVAL_S = 0.02
+__all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_problem",
+           "run_simulation"]
+
+Table = tuple[list[str], np.ndarray]   # column names, rows of a profile
 
 
 class Problem(Protocol):
-    """What a scenario builder hands to the runner."""
+    """What a scenario builder hands to the runner (``frame`` is optional: an animation)."""
 
     mesh: ngs.Mesh
     solver: FlowSolver
@@ -49,9 +54,8 @@ class Problem(Protocol):
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]: ...
     def record(self, row: dict[str, float]) -> None: ...
-    def write_profiles(self, run_dir: RunDir, t: float, label: str | None = None) -> None: ...
+    def profiles(self, t: float) -> dict[str, Table]: ...
     def summary(self, result: RunResult) -> dict[str, Any]: ...
-    def plot(self, run_dir: RunDir) -> None: ...
     def save_state(self) -> dict[str, Any]: ...
     def restore_state(self, state: dict[str, Any]) -> None: ...
 
@@ -67,19 +71,10 @@ def build_problem(config: Config) -> Problem:
     return build_column(config)
 
 
-def write_fields(series: VtkSeries, problem: Problem, t: float) -> None:
-    """Velocity, pressure, |Du|, effective viscosity and the flowing flag at the vertices."""
-    solver, mesh = problem.solver, problem.mesh
-    speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
-    series.write(
-        t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),
-        point_data={
-            "velocity": vertex_samples(mesh, solver.velocity),
-            "pressure": vertex_samples(mesh, solver.pressure),
-        },
-        cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
-                   "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
-                   "effective_viscosity": cell_means(mesh, solver.effective_viscosity())[0]})
+def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = False) -> None:
+    """The problem's profiles at time ``t`` (or of the last state) into profiles/."""
+    for kind, (columns, rows) in problem.profiles(t).items():
+        profiles.write_profile(run_dir, kind, t, columns, rows, final=final)
 
 
 def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
@@ -87,13 +82,30 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
     """Run ``config`` into ``run_dir`` (or continue ``resume``, a checkpointed state of it);
     return the summary, also written as summary.json.
 
-    The folder is locked for the whole run. summary.json says ``running`` from the start;
-    SIGINT and SIGTERM end the run after the current step with ``interrupted`` and a
-    checkpoint; a failing run checkpoints its last accepted state. Errors while the problem
-    is built are a ``failed`` summary too, never an escaping exception.
+    The caller holds the folder's lock (``run_dir.lock()``) for the whole run: it is taken
+    once, by whoever creates or reopens the folder (``granflow.run``, ``granflow resume``, a
+    sweep). summary.json says ``running`` from the start; SIGINT and SIGTERM end the run
+    after the current step with ``interrupted`` and a checkpoint; a failing run checkpoints
+    its last accepted state. Errors while the problem is built are a ``failed`` summary
+    too, never an escaping exception.
     """
-    with run_dir.lock():
-        return _run_locked(config, run_dir, progress, resume)
+    if not run_dir.locked:
+        raise RunDirError(f"run directory '{run_dir.root}' must be locked by its writer "
+                          "(with run_dir.lock(): ...) before a run starts")
+    started = "resumed" if resume else "started"
+    for stale in [*run_dir.path(profiles.FOLDER).glob(f"*_{profiles.FINAL}.csv"),
+                  run_dir.path(f"{profiles.FOLDER}/final_error.txt")]:
+        stale.unlink(missing_ok=True)   # of an earlier session
+    run_dir.write_json("summary.json", _summary_head(
+        config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
+    try:
+        problem = build_problem(config)
+        if resume is not None:
+            problem.restore_state(resume.scenario)
+            problem.simulation.restore_state(resume.loop)
+    except Exception as exc:  # a failure to build is a result, with the traceback kept
+        return _failed(config, run_dir, exc, "building the problem")
+    return _Run(config, run_dir, problem, progress, resume).execute()
 
 
 def _summary_head(config: Config, status: str, message: str) -> dict[str, Any]:
@@ -108,35 +120,41 @@ def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[
     return summary
 
 
-def _run_locked(config: Config, run_dir: RunDir, progress: bool,
-                resume: SimulationState | None) -> dict[str, Any]:
-    started = "resumed" if resume else "started"
-    for stale in [*run_dir.path("profiles").glob("*_final.csv"),   # of an earlier session
-                  run_dir.path("profiles/final_error.txt")]:
-        stale.unlink(missing_ok=True)
-    run_dir.write_json("summary.json", _summary_head(
-        config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
-    try:
-        problem = build_problem(config)
-        if resume is not None:
-            problem.restore_state(resume.scenario)
-            problem.simulation.restore_state(resume.loop)
-    except Exception as exc:  # a failure to build is a result, with the traceback kept
-        return _failed(config, run_dir, exc, "building the problem")
-    sim = problem.simulation
-    outputs = resume.outputs if resume is not None else {}
-    volume0 = outputs.get("volume0") or state_measures(
-        problem.mesh, problem.solver.velocity, problem.solver.density)["volume"]
-    if resume is not None:
-        _truncate_rows(run_dir.path("diagnostics.csv"), outputs["diagnostic_rows"])
-    log = run_dir.csv_log("diagnostics.csv", DIAGNOSTIC_COLUMNS, resume=resume is not None)
-    rows = outputs.get("diagnostic_rows", 0)
-    series = VtkSeries(run_dir.path("fields"))
-    series.entries = list(outputs.get("vtk_entries", []))
-    bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
+class _Run:
+    """One run's outputs wired to its loop: each output is a named observer on a schedule
+    and gives its share of the checkpoint (``save_state``)."""
 
-    def record(s: Simulation) -> None:
-        nonlocal rows
+    def __init__(self, config: Config, run_dir: RunDir, problem: Problem, progress: bool,
+                 resume: SimulationState | None) -> None:
+        self.config, self.run_dir, self.problem = config, run_dir, problem
+        self.resumed = resume is not None
+        sim = self.sim = problem.simulation
+        saved = resume.outputs if resume is not None else None
+        self.volume0 = (saved or {}).get("volume0") or state_measures(
+            problem.mesh, problem.solver.velocity, problem.solver.density)["volume"]
+        self.diagnostics = DiagnosticsLog(run_dir, saved)
+        self.fields = FieldSnapshots(run_dir, problem, saved)
+        self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
+        self.at_times = AtTimes(config.time.output_times, self._outputs_at)
+        if resume is not None:   # those still ahead (the configuration may have changed them)
+            self.at_times.pending = [x for x in config.time.output_times
+                                     if x > sim.t + 1e-9 * max(1.0, x)]
+        observers = [self._record, self.bar, self.at_times,
+                     EveryNSteps(config.output.vtk_every, lambda s: self.fields.write(s.t))]
+        frame = getattr(problem, "frame", None)
+        self.frames = AnimationFrames(run_dir, frame, saved) if frame is not None else None
+        self.animation = (TimeInterval(ANIMATION_INTERVAL_S, self.frames.write)
+                          if self.frames is not None else None)
+        if self.animation is not None:
+            self.animation.next = (saved or {}).get("animation_next", self.animation.next)
+            observers.append(self.animation)
+        sim.observers = [*sim.observers, *observers]
+        sim.checkpoint, sim.checkpoint_every = self.checkpoint, config.output.checkpoint_every
+
+    # --- observers ----------------------------------------------------------------------
+    def _record(self, s: Simulation) -> None:
+        """One diagnostics row per accepted step."""
+        problem = self.problem
         report, estimate = s.last_report, s.last_estimate
         row = {"t": s.t, "dt": s.dt, "iterations": report.iterations,
                "linear_solves": report.linear_solves,
@@ -145,113 +163,95 @@ def _run_locked(config: Config, run_dir: RunDir, progress: bool,
         row |= problem.shape_measures(speed[0])
         row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
                               speed)
-        log.write([row.get(c, math.nan) for c in DIAGNOSTIC_COLUMNS])
-        rows += 1
+        self.diagnostics.write(row)
         problem.record(row)
 
-    def outputs_at(s: Simulation, t: float) -> None:
-        problem.write_profiles(run_dir, t)
-        write_fields(series, problem, t)
+    def _outputs_at(self, s: Simulation, t: float) -> None:
+        write_profiles(self.run_dir, self.problem, t)
+        self.fields.write(t)
 
-    at_times = AtTimes(config.time.output_times, outputs_at)
-    if resume is not None:   # those still ahead (the configuration may have changed them)
-        at_times.pending = [x for x in config.time.output_times
-                            if x > sim.t + 1e-9 * max(1.0, x)]
-    observers = [record, bar, at_times,
-                 EveryNSteps(config.output.vtk_every, lambda s: write_fields(series, problem, s.t))]
-    frame = getattr(problem, "frame", None)
-    frames_written = outputs.get("frames_written", 0)
+    def checkpoint(self, s: Simulation) -> None:
+        outputs: dict[str, Any] = {"volume0": self.volume0,
+                                   "pending_times": list(self.at_times.pending),
+                                   "animation_next": (self.animation.next
+                                                      if self.animation is not None else None)}
+        for output in (self.diagnostics, self.fields, self.frames):
+            if output is not None:
+                outputs |= output.save_state()
+        write_checkpoint(self.run_dir, SimulationState(
+            loop=s.save_state(), scenario=self.problem.save_state(), outputs=outputs))
 
-    def write_animation_frame(s: Simulation) -> None:
-        nonlocal frames_written
-        assert frame is not None
-        write_frame(run_dir, frames_written, frame(s))
-        frames_written += 1
+    # --- the run --------------------------------------------------------------------------
+    def execute(self) -> dict[str, Any]:
+        sim, run_dir, problem = self.sim, self.run_dir, self.problem
+        if not self.resumed:
+            self.fields.write(0.0)
+            if self.frames is not None:
+                self.frames.write(sim)      # the animation starts from the column at rest
+        crashed: Exception | None = None
+        result: RunResult | None = None
+        try:
+            with _interrupts_to(sim):
+                result = sim.run()
+            if result.status in ("interrupted", "failed"):
+                self.checkpoint(sim)      # the last accepted state: `granflow resume` goes on
+                result.message += f"; continue with `granflow resume {run_dir.root}`"
+        except Exception as exc:  # keep what was written; report instead of crashing
+            crashed = exc
+            result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
+                               f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
+                               sim.nonlinear_iterations, sim.linear_solves,
+                               sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
+            run_dir.write_text("traceback.txt", traceback.format_exc())
+        finally:
+            self.bar.close("at rest" if result is not None and result.status == "stopped"
+                           else "")
+            self.diagnostics.close()
+        final = self._write_final_state() if crashed is None else None
+        at_rest = self.at_times.flush(sim) if result.status == "stopped" else []
+        solver = problem.solver
+        volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
+        summary: dict[str, Any] = _summary_head(self.config, result.status,
+                                                result.message) | {
+            "t_final": result.t_final,
+            "steps": result.steps,
+            "rejected_steps": result.rejected_steps,
+            "rejections": result.rejections,
+            "outputs_at_rest": at_rest,   # output times written from the final (rest) state
+            "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
+            "unconverged_steps": result.unconverged_steps,
+            "nonlinear_iterations": result.nonlinear_iterations,
+            "linear_solves": result.linear_solves,
+            "wall_time_s": result.wall_time_s,
+            "stop_time_s": None,
+            "runout_m": None,
+            "volume_relative_error": abs(volume - self.volume0) / self.volume0,
+            "n_triangles": problem.mesh.ne,
+            "n_dofs": solver.space.ndof,
+            "resumed": self.resumed,
+        }
+        summary |= problem.summary(result)
+        run_dir.write_json("summary.json", summary)
+        self.bar.say(f"drawing the figures into {run_dir.path('plots')}")
+        try:
+            draw_figures(run_dir, self.config)
+        except Exception as exc:  # a figure must never turn a finished run into a failure
+            run_dir.write_text("plots/error.txt", f"{type(exc).__name__}: {exc}\n")
+        return summary
 
-    animation = (TimeInterval(ANIMATION_INTERVAL_S, write_animation_frame)
-                 if frame is not None else None)
-    if animation is not None:
-        animation.next = outputs.get("animation_next", animation.next)
-        observers.append(animation)
-    sim.observers = [*sim.observers, *observers]
-
-    def checkpoint(s: Simulation) -> None:
-        write_checkpoint(run_dir, SimulationState(
-            loop=s.save_state(), scenario=problem.save_state(),
-            outputs={"volume0": volume0, "diagnostic_rows": rows,
-                     "pending_times": list(at_times.pending),
-                     "vtk_entries": list(series.entries),
-                     "animation_next": animation.next if animation is not None else None,
-                     "frames_written": frames_written}))
-
-    sim.checkpoint, sim.checkpoint_every = checkpoint, config.output.checkpoint_every
-    if resume is None:
-        write_fields(series, problem, 0.0)
-        if animation is not None:
-            write_animation_frame(sim)      # the animation starts from the column at rest
-    crashed: Exception | None = None
-    result: RunResult | None = None
-    try:
-        with _interrupts_to(sim):
-            result = sim.run()
-        if result.status in ("interrupted", "failed"):
-            checkpoint(sim)        # the last accepted state: `granflow resume` goes on
-            result.message += f"; continue with `granflow resume {run_dir.root}`"
-    except Exception as exc:  # keep what was written; report instead of crashing
-        crashed = exc
-        result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
-                           f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
-                           sim.nonlinear_iterations, sim.linear_solves,
-                           sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
-        run_dir.write_text("traceback.txt", traceback.format_exc())
-    finally:
-        bar.close("at rest" if result is not None and result.status == "stopped" else "")
-        log.close()
-    final = _write_final_state(run_dir, problem, series, sim) if crashed is None else None
-    at_rest = at_times.flush(sim) if result.status == "stopped" else []
-    solver = problem.solver
-    volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
-    summary: dict[str, Any] = _summary_head(config, result.status, result.message) | {
-        "t_final": result.t_final,
-        "steps": result.steps,
-        "rejected_steps": result.rejected_steps,
-        "rejections": result.rejections,
-        "outputs_at_rest": at_rest,   # output times written from the final (rest) state
-        "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
-        "unconverged_steps": result.unconverged_steps,
-        "nonlinear_iterations": result.nonlinear_iterations,
-        "linear_solves": result.linear_solves,
-        "wall_time_s": result.wall_time_s,
-        "stop_time_s": None,
-        "runout_m": None,
-        "volume_relative_error": abs(volume - volume0) / volume0,
-        "n_triangles": problem.mesh.ne,
-        "n_dofs": solver.space.ndof,
-        "resumed": resume is not None,
-    }
-    summary |= problem.summary(result)
-    run_dir.write_json("summary.json", summary)
-    bar.say(f"drawing the figures into {run_dir.path('plots')}")
-    try:
-        problem.plot(run_dir)
-    except Exception as exc:  # a figure must never turn a finished run into a failure
-        run_dir.write_text("plots/error.txt", f"{type(exc).__name__}: {exc}\n")
-    return summary
-
-
-def _write_final_state(run_dir: RunDir, problem: Problem, series: VtkSeries,
-                       sim: Simulation) -> float | None:
-    """The last accepted state as profiles/*_final.csv and a last VTU snapshot: the deposit
-    of a run that stopped, where a failed run stood. Returns its time, or None if it could
-    not be written (the reason in profiles/final_error.txt; the run's result stands)."""
-    try:
-        problem.write_profiles(run_dir, sim.t, "final")
-        if not series.entries or abs(series.entries[-1][0] - sim.t) > 1e-12:
-            write_fields(series, problem, sim.t)
-    except Exception as exc:  # an output must never turn a finished run into a failure
-        run_dir.write_text("profiles/final_error.txt", f"{type(exc).__name__}: {exc}\n")
-        return None
-    return sim.t
+    def _write_final_state(self) -> float | None:
+        """The last accepted state as profiles/*_final.csv and a last VTU snapshot: the
+        deposit of a run that stopped, where a failed run stood. Returns its time, or None
+        if it could not be written (the reason in profiles/final_error.txt)."""
+        t = self.sim.t
+        try:
+            write_profiles(self.run_dir, self.problem, t, final=True)
+            self.fields.write_last(t)
+        except Exception as exc:  # an output must never turn a finished run into a failure
+            self.run_dir.write_text(f"{profiles.FOLDER}/final_error.txt",
+                                    f"{type(exc).__name__}: {exc}\n")
+            return None
+        return t
 
 
 @contextlib.contextmanager
@@ -271,12 +271,3 @@ def _interrupts_to(sim: Simulation) -> Iterator[None]:
     finally:
         for sig, old in previous.items():
             signal.signal(sig, old)
-
-
-def _truncate_rows(path: Path, rows: int) -> None:
-    """Keep the header and the first ``rows`` rows of a CSV log (those the checkpoint has
-    seen): rows written after it by the killed run are replayed by the resumed one."""
-    if not path.is_file():
-        return
-    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
-    atomic_write_bytes(path, "".join(lines[:rows + 1]).encode("utf-8"))

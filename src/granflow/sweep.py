@@ -152,8 +152,9 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
         status = RunDir.status(folder)
         if status in ("running", "interrupted") and (folder / "checkpoint").is_dir():
             run_dir = RunDir(folder)
-            summary = run_simulation(config, run_dir, progress=False,
-                                     resume=read_checkpoint(folder))
+            with run_dir.lock():
+                summary = run_simulation(config, run_dir, progress=False,
+                                         resume=read_checkpoint(folder))
         else:
             run_dir = RunDir.create(folder, force=True)
             with run_dir.lock():

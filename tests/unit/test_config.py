@@ -12,6 +12,7 @@ from granflow.config import (
     CUSTOM,
     Config,
     ConfigError,
+    ConfigNote,
     apply_overrides,
     builtin_scenarios,
     config_to_toml,
@@ -154,9 +155,16 @@ def test_apply_overrides_revalidates() -> None:
         apply_overrides(config, ["time.output_times=[0.5]"])
 
 
-def test_inherited_output_times_follow_a_shorter_t_end() -> None:
-    config = load_config("trapezoid-rigid", ["time.t_end=0.4"])
+def test_inherited_output_times_follow_a_shorter_t_end_with_a_note() -> None:
+    with pytest.warns(ConfigNote, match=r"\[0.48, 0.66, 0.78, 1.02\] .* time\.t_end = 0\.4 s"):
+        config = load_config("trapezoid-rigid", ["time.t_end=0.4"])
     assert config.time.output_times == [0.18, 0.3]
+
+
+def test_output_times_the_user_sets_are_not_noted(recwarn: pytest.WarningsRecorder) -> None:
+    load_config("trapezoid-rigid", ["time.t_end=0.4", "time.output_times=[0.1]"])
+    load_config("trapezoid-rigid", ["time.t_end=2.0"])
+    assert not [w for w in recwarn if issubclass(w.category, ConfigNote)]
 
 
 def test_config_is_frozen() -> None:

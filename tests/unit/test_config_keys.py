@@ -89,7 +89,7 @@ def fingerprint(scenario: str, overrides: list[str]) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         run_dir = RunDir.create(Path(tmp) / "run")
         err = io.StringIO()
-        with contextlib.redirect_stderr(err):
+        with contextlib.redirect_stderr(err), run_dir.lock():
             summary = run_simulation(config, run_dir, progress=config.output.progress)
         summary = {k: v for k, v in summary.items() if k not in ("wall_time_s",)}
         diagnostics = (run_dir.root / "diagnostics.csv").read_text()
@@ -102,11 +102,9 @@ def fingerprint(scenario: str, overrides: list[str]) -> str:
 @pytest.fixture(autouse=True)
 def no_figures(monkeypatch: pytest.MonkeyPatch) -> None:
     """Figures are drawn from the files compared here; skipping them saves most of the time."""
-    from granflow.scenarios.column import ColumnCollapse
-    from granflow.scenarios.plug_flow import PlugFlow
+    from granflow import runner
 
-    for problem in (ColumnCollapse, PlugFlow):
-        monkeypatch.setattr(problem, "plot", lambda self, run_dir: None)
+    monkeypatch.setattr(runner, "draw_figures", lambda run_dir, config: None)
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c == "column"

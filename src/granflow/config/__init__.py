@@ -18,9 +18,9 @@ from granflow.config.loading import (
 )
 from granflow.config.rules import MAX_TRIANGLES, estimated_triangles, inert_keys
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
-from granflow.config.schema import SECTIONS, ConfigError
+from granflow.config.schema import SECTIONS, ConfigError, ConfigNote
 
 __all__ = ["CUSTOM", "MAX_TOML_BYTES", "MAX_TRIANGLES", "SECTIONS", "TOML_HEADER", "Config",
-           "ConfigError", "apply_overrides", "builtin_scenarios", "config_to_toml",
+           "ConfigError", "ConfigNote", "apply_overrides", "builtin_scenarios", "config_to_toml",
            "estimated_triangles", "inert_keys", "load_config", "parse_value", "read_toml_file",
            "scenario_text", "toml_literal"]

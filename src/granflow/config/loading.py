@@ -18,6 +18,7 @@ from __future__ import annotations
 import copy
 import math
 import tomllib
+import warnings
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
@@ -30,7 +31,7 @@ from pydantic_core import PydanticCustomError
 from granflow.config.messages import fmt_value, one_line
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
-from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
+from granflow.config.schema import SECTIONS, ConfigError, ConfigModel, ConfigNote
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
@@ -73,7 +74,7 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
         _merge(data, layers[-1])
     explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
     _apply(data, overrides)
-    _drop_late_outputs(data, overrides, explicit)
+    dropped = _drop_late_outputs(data, overrides, explicit)
     data["scenario"] = name
     config = _validate(data)
     changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
@@ -92,16 +93,29 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
                               f"{cells} both set the mesh size; set one of them")
         data["mesh"]["size"] = size      # the resolution follows the column
         config = _validate(data)
+    _note_dropped(dropped, config)
     return config
 
 
-def _drop_late_outputs(data: dict[str, Any], overrides: Sequence[str], explicit: bool) -> None:
-    """Inherited output times after a shortened t_end are dropped (not those the user set)."""
+def _drop_late_outputs(data: dict[str, Any], overrides: Sequence[str],
+                       explicit: bool) -> list[float]:
+    """Inherited output times after a shortened t_end are dropped (not those the user set);
+    returns them."""
     explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
                                for o in overrides)
     t_end, times = data["time"]["t_end"], data["time"]["output_times"]
     if not explicit and _numbers(times) and _numbers([t_end]):
         data["time"]["output_times"] = [x for x in times if x <= t_end]
+        return [x for x in times if x > t_end]
+    return []
+
+
+def _note_dropped(dropped: list[float], config: Config) -> None:
+    """Say which inherited output times a valid configuration will not write."""
+    if dropped:
+        warnings.warn(f"time.output_times {fmt_value(dropped)} of the scenario come after "
+                      f"time.t_end = {config.time.t_end:g} s and are not written (set "
+                      "time.output_times to choose others)", ConfigNote, stacklevel=3)
 
 
 def _numbers(values: Any) -> bool:
@@ -114,8 +128,10 @@ def apply_overrides(config: Config, overrides: Sequence[str]) -> Config:
     """A copy of ``config`` with ``section.key=value`` overrides applied and re-validated."""
     data = config.model_dump()
     _apply(data, overrides)
-    _drop_late_outputs(data, overrides, explicit=False)
-    return _validate(data)
+    dropped = _drop_late_outputs(data, overrides, explicit=False)
+    config = _validate(data)
+    _note_dropped(dropped, config)
+    return config
 
 
 def toml_literal(value: Any) -> str:

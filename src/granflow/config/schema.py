@@ -17,6 +17,11 @@ class ConfigError(ValueError):
     """Invalid configuration; the message is one line naming the key, value and allowed range."""
 
 
+class ConfigNote(UserWarning):
+    """A valid configuration that does something the user may not expect (a warning; the
+    command line prints it as one ``granflow: note:`` line)."""
+
+
 # Ranges a physical run can use (SI): wide enough for laboratory to field scales, narrow
 # enough that no value overflows, underflows or makes Netgen mesh for hours.
 Positive = Annotated[float, Field(gt=0)]

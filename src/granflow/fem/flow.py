@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import ngsolve as ngs
 
@@ -29,6 +29,8 @@ from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
 from granflow.simulation.outcomes import IterationReport
+
+Carry = Callable[[ngs.GridFunction, ngs.GridFunction], None]   # (old field, new field)
 
 
 class FlowSolver:
@@ -227,6 +229,20 @@ class FlowSolver:
             self.multiplier.vec.FV().NumPy()[:] = state["multiplier"]
             if "augmentation" in state:
                 self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
+            self.augmented.remember()
+
+    def inherit(self, old: FlowSolver, carry: Carry, carry_tensor: Carry) -> None:
+        """Continue ``old``'s run on this solver's (new) mesh after a remesh: the time
+        scheme's history, the first iterate, the "auto" guess's choice and the augmented
+        Lagrangian's warm start (d, lambda, r). ``carry(old_field, new_field)`` moves a
+        Taylor-Hood state, ``carry_tensor`` a tensor field (``ale/transfer.py``)."""
+        self.scheme.inherit(old.scheme, carry)
+        self.solution.vec.data = self.previous.vec
+        self.extrapolation_won = old.extrapolation_won
+        if old.augmented is not None and self.augmented is not None:
+            carry_tensor(old.strain, self.strain)
+            carry_tensor(old.multiplier, self.multiplier)
+            self.augmentation.Set(old.augmentation.Get())
             self.augmented.remember()
 
     # --- read-only measures of the accepted state -------------------------------------

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 from typing import Any
 
@@ -14,26 +13,20 @@ import numpy as np  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from granflow.geometry.domains import column  # noqa: E402
+from granflow.io import profiles  # noqa: E402
+from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
 
-def _read(path: Path) -> dict[str, np.ndarray]:
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
-    if not rows:
-        return {}
-    return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan for r in rows])
-            for k in rows[0]}
-
-
 def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[float, dict]]:
+    """The profiles of ``kind`` at those of ``times`` that were written."""
     out = []
     for t in times:
-        path = run_dir.path(f"profiles/{kind}_t{t:.3f}.csv")
-        if path.exists():
-            out.append((t, _read(path)))
+        found = profiles.profile_at(run_dir.root, kind, t)
+        if found is not None:
+            out.append((t, found))
     return out
 
 
@@ -45,14 +38,14 @@ def _label(t: float, summary: dict[str, Any], prefix: str = "t = ") -> str:
 
 
 def _final_surface(run_dir: RunDir, summary: dict[str, Any]) -> tuple[str, dict] | None:
-    """The last state's free surface (profiles/free_surface_final.csv) and its legend label:
+    """The last state's free surface (its final profile) and its legend label:
     "at rest" when the run stopped by the rest rule, else the run's status."""
-    path = run_dir.path("profiles/free_surface_final.csv")
+    surface = profiles.final_profile(run_dir.root, "free_surface")
     t = summary.get("final_profiles_t")
-    if not path.exists() or t is None:
+    if surface is None or t is None:
         return None
     what = "at rest" if summary.get("status") == "stopped" else summary.get("status", "end")
-    return f"{what}, t = {t:.2f} s", _read(path)
+    return f"{what}, t = {t:.2f} s", surface
 
 
 def initial_outline(config: Any) -> np.ndarray:
@@ -66,7 +59,7 @@ def initial_outline(config: Any) -> np.ndarray:
 
 def plot_collapse(run_dir: RunDir, config: Any) -> None:
     """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
-    the run directory's files alone (profiles/, diagnostics.csv, frames/)."""
+    the run directory's files alone, through their readers (profiles, diagnostics, frames)."""
     summary = RunDir.summary(run_dir.root)
     final = _final_surface(run_dir, summary)
     # output times after the mass came to rest hold the rest state: drawn once, as "at rest"
@@ -122,8 +115,8 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         _legend(axes[0][0])
         save_figure(fig, run_dir.path("plots/velocity_sections.png"))
 
-    diag = _read(run_dir.path("diagnostics.csv"))
-    if diag:
+    diag = read_diagnostics(run_dir.root)
+    if len(diag):
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.2))
         a1.plot(diag["t"], diag["front_x"])
         a1.set(xlabel="t (s)", ylabel="front x (m)", title=f"Front position{bed}")

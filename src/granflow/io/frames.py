@@ -8,6 +8,7 @@ has to stay in memory or in a checkpoint.
 from __future__ import annotations
 
 import io
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +17,27 @@ import numpy as np
 from granflow.io.run_dir import RunDir
 
 FRAMES = "frames"
+INTERVAL_S = 0.02   # simulated time between frames
+
+
+class AnimationFrames:
+    """The frames of a run; ``written`` is what a checkpoint remembers (the schedule's next
+    time is the runner's)."""
+
+    name = "frames"
+
+    def __init__(self, run_dir: RunDir, frame: Callable[[Any], dict[str, Any]],
+                 resume: Mapping[str, Any] | None = None) -> None:
+        self.run_dir, self.frame = run_dir, frame
+        self.written = int(resume.get("frames_written", 0)) if resume else 0
+
+    def write(self, sim: Any) -> None:
+        """The frame of the current state of ``sim`` (its ``t``)."""
+        write_frame(self.run_dir, self.written, self.frame(sim))
+        self.written += 1
+
+    def save_state(self) -> dict[str, Any]:
+        return {"frames_written": self.written}
 
 
 def write_frame(run_dir: RunDir, index: int, frame: dict[str, Any]) -> None:

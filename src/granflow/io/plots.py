@@ -11,10 +11,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
-def save_figure(fig: plt.Figure, path: Path) -> None:
+def save_figure(fig: plt.Figure, path: Path, dpi: int = 130, **kwargs: object) -> None:
+    """Save ``fig`` to ``path`` atomically (a temporary file renamed over it: a killed run
+    leaves no half image) and close it. ``kwargs`` go to ``savefig``."""
+    path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    fig.savefig(tmp, dpi=130, bbox_inches="tight")
+    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    fig.savefig(tmp, dpi=dpi, **({"bbox_inches": "tight"} | kwargs))
     plt.close(fig)
     tmp.replace(path)
 

@@ -1,17 +1,15 @@
-"""``granflow plot RUN_DIR``: every figure (and the animation) again, from the files alone.
-
-Reads config.toml, profiles/, diagnostics.csv and frames/ only, so it works on a run that
-was killed or is still running (what is written so far), and after a figure was deleted.
-"""
+"""The figures of a run, drawn from its files through their readers (``io/profiles.py``,
+``io/diagnostics.py``, ``io/frames.py``): at the end of a run and by ``granflow plot
+RUN_DIR``, which works on a run that was killed or is still running (what is written so
+far) and after a figure was deleted. Nothing is drawn from a solver's private state, so a
+figure always shows what the files hold."""
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
-import numpy as np
-
-from granflow.config import load_config
+from granflow.config import Config, load_config
+from granflow.io import profiles
 from granflow.io.run_dir import RunDir, RunDirError
 
 
@@ -20,27 +18,33 @@ def plot_run(root: Path) -> list[Path]:
     if not RunDir.is_run_dir(root):
         raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
     config = load_config(str(Path(root) / "config.toml"))
-    run_dir = RunDir(Path(root))
+    draw_figures(RunDir(Path(root)), config)
+    return sorted((Path(root) / "plots").glob("*.*"))
+
+
+def draw_figures(run_dir: RunDir, config: Config) -> None:
+    """Every figure of the run in ``run_dir`` (a collapse or a plug flow) into plots/."""
     if config.geometry.kind == "periodic-layer":
         _plot_plug_flow(run_dir)
     else:
         from granflow.io.collapse_plots import plot_collapse
 
         plot_collapse(run_dir, config)
-    return sorted((Path(root) / "plots").glob("*.*"))
 
 
 def _plot_plug_flow(run_dir: RunDir) -> None:
-    """The velocity profile against the 1D reference at the last output time on disk."""
+    """The velocity profile against the 1D reference: of the last accepted state, or of the
+    last output time on disk for a run still going."""
     from granflow.io.plots import plot_plug_profile
 
-    profiles = sorted(run_dir.root.glob("profiles/velocity_t*.csv"),
-                      key=lambda p: float(re.findall(r"t([0-9.]+)\.csv$", p.name)[0]))
-    if not profiles:
+    found = profiles.list_profiles(run_dir.root, "velocity")
+    final_t = RunDir.summary(run_dir.root).get("final_profiles_t")
+    found = [p for p in found if p.t is not None or (p.final and final_t is not None)]
+    if not found:
         raise RunDirError(f"'{run_dir.root}' holds no velocity profile yet (profiles/ is "
                           "written at time.output_times)")
-    last = profiles[-1]
-    data = np.genfromtxt(last, delimiter=",", names=True)
-    t = float(re.findall(r"t([0-9.]+)\.csv$", last.name)[0])
+    last = found[-1]
+    data = last.read()
+    t = last.t if last.t is not None else float(final_t)
     plot_plug_profile(run_dir.path("plots/velocity_profile.png"), data["z"], data["u_x"],
                       data["u_reference"], t)

@@ -156,6 +156,11 @@ class RunDir:
         finally:
             self._lock.release()
 
+    @property
+    def locked(self) -> bool:
+        """True while this process holds the folder's lock (inside ``lock()``)."""
+        return self._lock is not None and self._lock.is_locked
+
     @staticmethod
     def is_run_dir(path: Path) -> bool:
         """True if ``path`` holds a config.toml written by granflow."""

@@ -16,7 +16,6 @@ from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
 from granflow.geometry.mesh import BED, periodic_layer_mesh
-from granflow.io.run_dir import RunDir
 from granflow.physics import MuI, gravity_vector
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
@@ -134,11 +133,11 @@ class PlugFlow:
         ref = self.reference(t)
         return z, u, ref(z) if ref is not None else np.full(len(z), np.nan)
 
-    def write_profiles(self, run_dir: RunDir, t: float, label: str | None = None) -> None:
+    def profiles(self, t: float) -> dict[str, tuple[list[str], np.ndarray]]:
+        """The velocity along the mid vertical and the reference at time ``t``, as
+        ``io/profiles.py`` writes them."""
         z, u, ref = self.profile(t)
-        name = f"profiles/velocity_{label or f't{t:.3f}'}.csv"
-        run_dir.write_csv(name, ["z", "u_x", "u_z", "u_reference"],
-                          np.column_stack([z, u, ref]).tolist())
+        return {"velocity": (["z", "u_x", "u_z", "u_reference"], np.column_stack([z, u, ref]))}
 
     def summary(self, result: RunResult) -> dict[str, Any]:
         ref = self.reference(result.t_final) if result.t_final > 0 else None
@@ -150,13 +149,6 @@ class PlugFlow:
             "reference": self.reference_kind,
             "reference_note": self.reference_note(),
         }
-
-    def plot(self, run_dir: RunDir) -> None:
-        from granflow.io.plots import plot_plug_profile
-
-        t = self.simulation.t
-        z, u, ref = self.profile(t)
-        plot_plug_profile(run_dir.path("plots/velocity_profile.png"), z, u[:, 0], ref, t)
 
 
 def build_plug_flow(config: Config) -> PlugFlow:

@@ -1,0 +1,69 @@
+"""``diagnostics.csv``: one row per accepted step, its one writer and its one reader.
+
+Columns: t (s), dt (s), iterations, front_x (m), wall_height (m), volume (m^2 per metre of
+width), kinetic_energy (J/m), max_speed (m/s), flowing_fraction, linear_solves,
+local_error, tension_on, tension_x (m), area_correction, remesh_area_change (relative).
+The file is append-only and flushed after each row; a resumed run first cuts it back to the
+rows its checkpoint had seen, then appends.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from granflow.io.run_dir import CsvLog, RunDir, atomic_write_bytes
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+FILE = "diagnostics.csv"
+COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
+           "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
+           "local_error", "tension_on", "tension_x", "area_correction",
+           "remesh_area_change"]
+
+
+class DiagnosticsLog:
+    """The open diagnostics.csv of a run; ``rows`` is what a checkpoint remembers."""
+
+    name = "diagnostics"
+
+    def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None) -> None:
+        self.rows = int(resume.get("diagnostic_rows", 0)) if resume else 0
+        path = run_dir.path(FILE)
+        if resume is not None:
+            _truncate_rows(path, self.rows)
+        self._log: CsvLog = run_dir.csv_log(FILE, COLUMNS, resume=resume is not None)
+
+    def write(self, row: Mapping[str, float]) -> None:
+        """One row; columns the row lacks are NaN (a plug flow has no front)."""
+        self._log.write([row.get(c, math.nan) for c in COLUMNS])
+        self.rows += 1
+
+    def save_state(self) -> dict[str, Any]:
+        return {"diagnostic_rows": self.rows}
+
+    def close(self) -> None:
+        self._log.close()
+
+
+def read_diagnostics(root: Path) -> pd.DataFrame:
+    """diagnostics.csv of the run in ``root`` as a DataFrame (empty if not written yet)."""
+    import pandas as pd
+
+    path = Path(root, FILE)
+    if not path.is_file() or path.stat().st_size == 0:
+        return pd.DataFrame(columns=COLUMNS)
+    return pd.read_csv(path)
+
+
+def _truncate_rows(path: Path, rows: int) -> None:
+    """Keep the header and the first ``rows`` rows of the log (those the checkpoint has
+    seen): rows written after it by the killed run are replayed by the resumed one."""
+    if not path.is_file():
+        return
+    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    atomic_write_bytes(path, "".join(lines[:rows + 1]).encode("utf-8"))

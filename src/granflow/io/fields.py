@@ -1,0 +1,61 @@
+"""``fields/``: the output writing VTU snapshots of the finite-element fields (at output
+times, every ``output.vtk_every`` steps and at the last accepted state); the file format,
+its index and its reader are ``io/vtk.py``.
+
+Point data: velocity (m/s), pressure (Pa). Cell data: speed (m/s), strain_rate_norm (1/s),
+effective_viscosity (Pa s) and the flowing flag (speed above 1 mm/s).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, Protocol
+
+import ngsolve as ngs
+
+from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.flow import FlowSolver
+from granflow.fem.sampling import cell_means, triangles, vertex_samples
+from granflow.io.run_dir import RunDir
+from granflow.io.vtk import FOLDER, VtkSeries
+
+
+class FlowState(Protocol):
+    """Where the current mesh and flow live (a remesh replaces both)."""
+
+    mesh: ngs.Mesh
+    solver: FlowSolver
+
+
+class FieldSnapshots:
+    """The VTU series of a run; ``entries`` (time, file) is what a checkpoint remembers."""
+
+    name = "fields"
+
+    def __init__(self, run_dir: RunDir, state: FlowState,
+                 resume: Mapping[str, Any] | None = None) -> None:
+        self.state = state
+        self.series = VtkSeries(run_dir.path(FOLDER))
+        self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
+
+    def write(self, t: float) -> None:
+        """Velocity, pressure, |Du|, effective viscosity and the flowing flag at time t."""
+        solver, mesh = self.state.solver, self.state.mesh
+        speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
+        self.series.write(
+            t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),
+            point_data={"velocity": vertex_samples(mesh, solver.velocity),
+                        "pressure": vertex_samples(mesh, solver.pressure)},
+            cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
+                       "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
+                       "effective_viscosity":
+                           cell_means(mesh, solver.effective_viscosity())[0]})
+
+    def write_last(self, t: float) -> None:
+        """A snapshot at ``t`` unless the last one already is at that time."""
+        entries = self.series.entries
+        if not entries or abs(entries[-1][0] - t) > 1e-12:
+            self.write(t)
+
+    def save_state(self) -> dict[str, Any]:
+        return {"vtk_entries": list(self.series.entries)}

@@ -1,0 +1,142 @@
+"""Profiles: ``profiles/KIND_LABEL.csv``, their one writer and their one reader.
+
+LABEL is ``tT.TTT`` for an output time T (s) or ``final`` for the last accepted state. Every
+row carries its time in a last column ``t`` (s), and ``profiles/units.json`` gives each
+column's unit, so a file is readable on its own. Kinds: ``free_surface`` and ``interface``
+(x, z), ``velocity_sections`` (section_x, z, u_x, u_z) for a collapse; ``velocity`` (z, u_x,
+u_z, u_reference) for the plug flow. x runs along the bed, z normal to it.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from granflow.diagnostics.compare import surface_distance
+from granflow.io.run_dir import RunDir
+
+FOLDER = "profiles"
+FINAL = "final"
+UNITS = {"t": "s", "x": "m", "z": "m", "section_x": "m", "u_x": "m/s", "u_z": "m/s",
+         "u_reference": "m/s"}
+_NAME = re.compile(r"(?P<kind>[a-z_]+?)_(?P<label>t\d+(?:\.\d+)?|final)\.csv")
+
+Profile = dict[str, np.ndarray]   # column name -> values
+
+
+def label_of(t: float) -> str:
+    """The file label of output time ``t``: ``t0.300``."""
+    return f"t{t:.3f}"
+
+
+def write_profile(run_dir: RunDir, kind: str, t: float, columns: Sequence[str],
+                  rows: np.ndarray | Sequence[Sequence[float]], final: bool = False) -> None:
+    """``profiles/KIND_tT.TTT.csv`` (or ``KIND_final.csv``) with a last column t = ``t``."""
+    data = np.asarray(rows, dtype=float).reshape(-1, len(columns))
+    table = np.column_stack([data, np.full(len(data), t)])
+    label = FINAL if final else label_of(t)
+    run_dir.write_csv(f"{FOLDER}/{kind}_{label}.csv", [*columns, "t"], table.tolist())
+    if not run_dir.path(f"{FOLDER}/units.json").exists():
+        run_dir.write_json(f"{FOLDER}/units.json", UNITS)
+
+
+@dataclass(frozen=True)
+class ProfileFile:
+    """One profile file: its kind, label and time (None for ``final`` in a run written
+    before profiles carried their time: summary.json's ``final_profiles_t`` has it)."""
+
+    kind: str
+    label: str
+    t: float | None
+    path: Path
+
+    @property
+    def final(self) -> bool:
+        return self.label == FINAL
+
+    def read(self) -> Profile:
+        return read_profile(self.path)
+
+
+def list_profiles(root: Path, kind: str) -> list[ProfileFile]:
+    """The profiles of ``kind`` in the run directory ``root``: output times in time order,
+    then the final state."""
+    found = []
+    for path in Path(root, FOLDER).glob(f"{kind}_*.csv"):
+        match = _NAME.fullmatch(path.name)
+        if match is None or match["kind"] != kind:
+            continue
+        label = match["label"]
+        t = _final_time(path) if label == FINAL else float(label[1:])
+        found.append(ProfileFile(kind, label, t, path))
+    return sorted(found, key=lambda p: (p.final, p.t if p.t is not None else 0.0))
+
+
+def profile_at(root: Path, kind: str, t: float) -> Profile | None:
+    """The profile of ``kind`` written at output time ``t`` (None if there is none)."""
+    path = Path(root, FOLDER, f"{kind}_{label_of(t)}.csv")
+    return read_profile(path) if path.is_file() else None
+
+
+def final_profile(root: Path, kind: str) -> Profile | None:
+    """The profile of ``kind`` of the last accepted state (None if there is none)."""
+    path = Path(root, FOLDER, f"{kind}_{FINAL}.csv")
+    return read_profile(path) if path.is_file() else None
+
+
+def curves(root: Path, kind: str,
+           times: Sequence[float] | None = None) -> dict[float, np.ndarray]:
+    """(x, z) arrays of the ``kind`` profiles at the output times ``times`` (default: all
+    that were written), rows with an undefined value dropped; curves with fewer than two
+    points are left out (an interface where nothing flows)."""
+    if times is None:
+        times = [p.t for p in list_profiles(root, kind) if not p.final and p.t is not None]
+    out = {}
+    for t in times:
+        data = profile_at(root, kind, t)
+        if not data:
+            continue
+        xz = np.column_stack([data["x"], data["z"]])
+        xz = xz[np.isfinite(xz).all(axis=1)]
+        if len(xz) >= 2:
+            out[t] = xz
+    return out
+
+
+def surface_distances(first: Path, second: Path, kind: str = "free_surface",
+                      times: Sequence[float] | None = None) -> dict[float, tuple[float, float]]:
+    """(mean, max) distance in m between the ``kind`` curves of two runs at each output
+    time both wrote (``diagnostics/compare.py``)."""
+    a, b = curves(first, kind, times), curves(second, kind, times)
+    return {t: surface_distance(a[t], b[t]) for t in a if t in b}
+
+
+def read_profile(path: Path) -> Profile:
+    """Columns by name (empty cells and "nan" as NaN); {} for a file with no rows."""
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        return {}
+    return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan for r in rows])
+            for k in rows[0]}
+
+
+def units(root: Path) -> dict[str, str]:
+    """Column units of the run in ``root`` (those of this version for older runs)."""
+    path = Path(root, FOLDER, "units.json")
+    return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else dict(UNITS)
+
+
+def _final_time(path: Path) -> float | None:
+    """The time column's value in a final profile, None if it has none (older runs)."""
+    with open(path, newline="", encoding="utf-8") as fh:
+        row = next(csv.DictReader(fh), None)
+    if row is None or not row.get("t"):
+        return None
+    return float(row["t"])

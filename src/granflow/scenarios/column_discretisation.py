@@ -1,0 +1,79 @@
+"""The discretised collapse on one mesh: the flow solver (3.2) with its Coulomb walls and
+the ALE mover (3.6)/(3.7). A remesh builds a new one on the new mesh (``column_remesher``);
+the parts that read the current mesh (``column_measures``, the outputs) hold the same
+``ColumnDiscretisation`` object and so always see the current one."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+
+from granflow.ale.column_mover import ColumnMover
+from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
+from granflow.ale.remesh import EdgeSize
+from granflow.ale.surface_tension import SurfaceTension
+from granflow.config import Config
+from granflow.fem.flow import FlowSolver
+from granflow.fem.forms import FrictionWall
+from granflow.fem.linalg import direct_solver
+from granflow.geometry.mesh import BED, END, SURFACE, WALL
+from granflow.physics import CoulombFriction, gravity_vector
+from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
+
+
+@dataclass
+class ColumnDiscretisation:
+    """The current mesh and what lives on it."""
+
+    mesh: ngs.Mesh
+    solver: FlowSolver
+    mover: ColumnMover
+
+    def replace(self, other: ColumnDiscretisation) -> None:
+        """Take ``other``'s mesh, solver and mover (after a remesh or a restore)."""
+        self.mesh, self.solver, self.mover = other.mesh, other.solver, other.mover
+
+
+def layer_edge_sizes(config: Config) -> EdgeSize | None:
+    """Over an erodible layer of thickness h_e: edges lying within 2 h_e of the bed get
+    length h_e / mesh.layer_cells (the bed, the layer's top and its end), so that the
+    layer has that many cells across; Netgen grades the rest up to mesh.size."""
+    he, cells = config.geometry.erodible_thickness, config.mesh.layer_cells
+    if he <= 0:
+        return None
+    fine, size = he / cells, config.mesh.size
+    return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
+
+
+def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
+    """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``."""
+    geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
+    load = bnd.normal_load
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load),
+             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction), load)]
+    if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
+        walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
+    st = config.surface_tension
+    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
+                        body_force=gravity_vector(mat.gravity, geo.slope_deg),
+                        walls=walls, penalty=bnd.penalty, linearization=num.linearization,
+                        linear_solver=direct_solver(num.linear_solver),
+                        initial_guess=num.initial_guess,
+                        surface_tension_on=SURFACE if st.enabled else None,
+                        side_walls=build_side_walls(config),
+                        augmentation=augmentation(config),
+                        scheme=config.time.scheme)
+    tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
+                              st.trigger_angle_deg, config.mesh.size,
+                              st.release_angle_deg) if st.enabled else None)
+    velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
+        ElasticMeshVelocity)
+    source = ngs.GridFunction(solver.space.components[0])
+    w_solver = velocity_cls(mesh, source, solver.mesh_velocity, num.mesh_penalty,
+                            solver=direct_solver(num.linear_solver))
+    mover = ColumnMover(mesh, w_solver,
+                        source=source, flow=solver, target=solver.mesh_velocity,
+                        extrapolate=num.ale_extrapolation,
+                        conserve_volume=num.volume_correction, tension=tension)
+    return ColumnDiscretisation(mesh, solver, mover)
