@@ -112,3 +112,10 @@ def test_a_run_needs_its_folder_locked(tmp_path: Path) -> None:
     run_dir = RunDir.create(tmp_path / "unlocked")
     with pytest.raises(RunDirError, match="must be locked"):
         run_simulation(granflow.Config.load("rectangle-rigid"), run_dir)
+
+
+def test_resume_refuses_a_finished_run(run: granflow.Run) -> None:
+    from granflow.io.run_dir import RunDirError
+
+    with pytest.raises(RunDirError, match="already finished"):
+        granflow.resume(run.root)

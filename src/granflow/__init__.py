@@ -14,8 +14,9 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")    # PARDISO (MKL): one thread, li
 
 __version__ = "0.2.0"
 
-__all__ = ["Config", "Run", "Summary", "load", "run", "__version__"]
-_API = {"run": "granflow.api", "load": "granflow.api", "Run": "granflow.api",
+__all__ = ["Config", "Run", "Summary", "load", "resume", "run", "__version__"]
+_API = {"run": "granflow.api", "load": "granflow.api", "resume": "granflow.api",
+        "Run": "granflow.api",
         "Summary": "granflow.api", "Config": "granflow.config"}
 
 

@@ -202,6 +202,40 @@ def run(case: str | Path | Config, overrides: Mapping[str, Any] | Sequence[str] 
     return Run(run_dir.root)
 
 
+def resume(path: str | Path, overrides: Mapping[str, Any] | Sequence[str] | None = None, *,
+           allow_pickle: bool = False, progress: bool = False,
+           log: Callable[[str], None] | None = None) -> Run:
+    """Continue the interrupted or failed run in ``path`` from its checkpoint, to its end.
+
+    ``overrides`` change its configuration first (the step policy is then rebuilt from it);
+    ``allow_pickle`` reads a pickled checkpoint of granflow 0.1, which can execute code: only
+    for a file you wrote yourself. A finished run is refused.
+    """
+    from granflow.io.checkpoint import read_checkpoint
+    from granflow.runner import run_simulation
+
+    root = Path(path)
+    if not RunDir.is_run_dir(root):
+        raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
+    status = RunDir.status(root)
+    if status in OK_STATUSES:
+        raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
+    texts = _override_texts(overrides)
+    config = load_config(str(root / "config.toml"), texts)
+    check_solver(config)
+    run_dir = RunDir(root)
+    with run_dir.lock():   # before reading: the run may still be writing it
+        state = read_checkpoint(root, allow_pickle=allow_pickle)
+        if texts:
+            state.loop["steps_policy"] = None    # rebuilt from the changed configuration
+            run_dir.write_text("config.toml", config_to_toml(config))
+        if log is not None:
+            log(f"granflow: resuming {root} at t = {state.t:.6g} s (step {state.step})")
+        run_simulation(config, run_dir, resume=state,
+                       progress=progress and config.output.progress)
+    return Run(root)
+
+
 def load(path: str | Path) -> Run:
     """Open the run directory ``path`` (finished, failed, interrupted or still running)."""
     return Run(path)
@@ -237,11 +271,17 @@ def fresh_folder(label: str) -> Path:
     return path
 
 
+def _override_texts(overrides: Mapping[str, Any] | Sequence[str] | None) -> list[str]:
+    """["section.key=value", ...] from a mapping or a sequence of such texts."""
+    if isinstance(overrides, Mapping):
+        return [f"{key}={toml_literal(value)}" for key, value in overrides.items()]
+    return list(overrides or ())
+
+
 def _resolve(case: str | Path | Config,
              overrides: Mapping[str, Any] | Sequence[str] | None) -> tuple[Config, str]:
     """The validated configuration of ``case`` with ``overrides``, and its label."""
-    texts = ([f"{key}={toml_literal(value)}" for key, value in overrides.items()]
-             if isinstance(overrides, Mapping) else list(overrides or ()))
+    texts = _override_texts(overrides)
     if isinstance(case, Config):
         config = apply_overrides(case, texts) if texts else case
         return config, "custom" if config.scenario == CUSTOM else config.scenario

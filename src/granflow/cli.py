@@ -231,28 +231,11 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _resume(args: argparse.Namespace) -> int:
-    root = args.run_dir
-    if not RunDir.is_run_dir(root):
-        raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
-    status = RunDir.status(root)
-    if status in OK_STATUSES:
-        raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
-    config = load_config(str(root / "config.toml"), args.overrides)
-    check_solver(config)
-    from granflow.io.checkpoint import read_checkpoint
-    from granflow.runner import run_simulation
+    from granflow.api import resume
 
-    run_dir = RunDir(root)
-    with run_dir.lock():   # refuse before reading: the run may still be writing it
-        state = read_checkpoint(root, allow_pickle=args.allow_pickle)
-        if args.overrides:
-            state.loop["steps_policy"] = None    # rebuilt from the changed configuration
-            run_dir.write_text("config.toml", config_to_toml(config))
-        if not args.quiet:
-            print(f"granflow: resuming {root} at t = {state.t:.6g} s (step {state.step})")
-        summary = run_simulation(config, run_dir, resume=state,
-                                 progress=config.output.progress and not args.quiet)
-    return _report(summary, run_dir)
+    result = resume(args.run_dir, args.overrides, allow_pickle=args.allow_pickle,
+                    progress=not args.quiet, log=None if args.quiet else print)
+    return _report(RunDir.summary(result.root), RunDir(result.root))
 
 
 def _positive_int(text: str) -> int:

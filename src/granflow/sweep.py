@@ -144,22 +144,16 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
         config = load_config(run.base, run.overrides)
     except ConfigError as err:
         return row | {"status": "failed", "message": f"invalid configuration: {err}"}
-    from granflow.config import config_to_toml
-    from granflow.io.checkpoint import CheckpointError, read_checkpoint
-    from granflow.runner import run_simulation
+    from granflow.api import resume
+    from granflow.api import run as run_case
+    from granflow.io.checkpoint import CheckpointError
 
     try:
         status = RunDir.status(folder)
         if status in ("running", "interrupted") and (folder / "checkpoint").is_dir():
-            run_dir = RunDir(folder)
-            with run_dir.lock():
-                summary = run_simulation(config, run_dir, progress=False,
-                                         resume=read_checkpoint(folder))
+            summary = RunDir.summary(resume(folder).root)
         else:
-            run_dir = RunDir.create(folder, force=True)
-            with run_dir.lock():
-                run_dir.write_text("config.toml", config_to_toml(config))
-                summary = run_simulation(config, run_dir, progress=False)
+            summary = RunDir.summary(run_case(config, out=folder, force=True).root)
     except (RunDirError, CheckpointError) as err:
         return row | {"status": "failed", "message": str(err)}
     except Exception as err:  # noqa: BLE001 - a worker must report, not die
