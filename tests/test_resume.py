@@ -101,7 +101,9 @@ def test_sigint_checkpoints_and_resumes_and_a_running_directory_is_refused(
     assert forced.returncode == 2 and "in use by another granflow process" in forced.stderr
     early = granflow("resume", out)
     assert early.returncode == 2 and "in use" in early.stderr
-    assert len(second.stderr.strip().splitlines()) == 1
+    errors = [line for line in second.stderr.splitlines() if not line.startswith(
+        "granflow: note:")]          # the case's t_end drops an output time: a note, no error
+    assert len(errors) == 1 and errors[0].startswith("granflow: error:")
     proc.send_signal(signal.SIGINT)
     assert proc.wait(timeout=120) == 130
     interrupted = summary(out)
