@@ -131,7 +131,8 @@ class _Run:
         sim = self.sim = problem.simulation
         saved = resume.outputs if resume is not None else None
         self.volume0 = (saved or {}).get("volume0") or state_measures(
-            problem.mesh, problem.solver.velocity, problem.solver.density)["volume"]
+            problem.mesh, problem.solver.velocity, problem.solver.density,
+            coords=problem.solver.coordinates)["volume"]
         self.diagnostics = DiagnosticsLog(run_dir, saved)
         self.fields = FieldSnapshots(run_dir, problem, saved)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
@@ -162,7 +163,7 @@ class _Run:
         speed = cell_means(problem.mesh, ngs.Norm(problem.solver.velocity))  # once per step
         row |= problem.shape_measures(speed[0])
         row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
-                              speed)
+                              speed, problem.solver.coordinates)
         self.diagnostics.write(row)
         problem.record(row)
 
@@ -210,7 +211,8 @@ class _Run:
         final = self._write_final_state() if crashed is None else None
         at_rest = self.at_times.flush(sim) if result.status == "stopped" else []
         solver = problem.solver
-        volume = state_measures(problem.mesh, solver.velocity, solver.density)["volume"]
+        volume = state_measures(problem.mesh, solver.velocity, solver.density,
+                                coords=solver.coordinates)["volume"]
         summary: dict[str, Any] = _summary_head(self.config, result.status,
                                                 result.message) | {
             "t_final": result.t_final,

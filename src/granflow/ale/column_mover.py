@@ -24,9 +24,10 @@ from granflow.ale.deposition import (
     snap_landed,
 )
 from granflow.ale.free_surface import (
+    AREA,
     BoundaryChain,
+    PolygonMeasure,
     conserve_area,
-    polygon_area,
     segments_intersect,
 )
 from granflow.ale.mesh_motion import (
@@ -46,14 +47,16 @@ class ColumnMover(AleMover):
     def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
                  source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,
                  extrapolate: bool = False, conserve_volume: bool = True,
-                 tension: SurfaceTension | None = None) -> None:
+                 tension: SurfaceTension | None = None,
+                 measure: PolygonMeasure = AREA) -> None:
         super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
         self.chain = BoundaryChain(mesh)
         self.tension = tension
         end = self.chain.vertices(END)
         self.end_x = float(mesh.ngmesh.Coordinates()[end, 0].max()) if end.size else np.inf
         self.conserve_volume = conserve_volume
-        self.initial_area = polygon_area(mesh.ngmesh.Coordinates(), self.chain.segments)
+        self.measure = measure      # the area, or the revolved volume in axisymmetry
+        self.initial_area = measure.size(mesh.ngmesh.Coordinates(), self.chain.segments)
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
         self.relabelled_segments = 0
         self.limited_steps = 0
@@ -132,7 +135,7 @@ class ColumnMover(AleMover):
             pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             self.step_correction = conserve_area(xy, self.chain.segments, movable,
-                                                 self.initial_area)
+                                                 self.initial_area, measure=self.measure)
         if self.tension is not None:
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
 
@@ -178,4 +181,5 @@ class ColumnMover(AleMover):
         super().after_accept()
 
     def area(self) -> float:
-        return polygon_area(self.mesh.ngmesh.Coordinates(), self.chain.segments)
+        """The conserved measure now: the area (m^2 per metre), or the revolved volume (m^3)."""
+        return self.measure.size(self.mesh.ngmesh.Coordinates(), self.chain.segments)

@@ -6,6 +6,9 @@ Works on the live Netgen mesh: vertex positions are read from ``Coordinates()``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
@@ -136,21 +139,62 @@ def polygon_area(xy: np.ndarray, segments: np.ndarray) -> float:
     return float(0.5 * np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
 
 
+def revolved_volume(xy: np.ndarray, segments: np.ndarray) -> float:
+    """Volume of the solid swept by the polygon turning about the axis x = 0: 2 pi times
+    its first moment, int x dA = sum (x_p + x_q)(x_p z_q - x_q z_p) / 6 over the edges."""
+    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
+    cross = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
+    return float(2.0 * np.pi * np.sum((p[:, 0] + q[:, 0]) * cross) / 6.0)
+
+
+def revolved_volume_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """d(revolved volume)/d(vertex position), edge by edge from ``revolved_volume``."""
+    i, j = segments[:, 0], segments[:, 1]
+    (xp, zp), (xq, zq) = xy[i].T, xy[j].T
+    cross, s = xp * zq - xq * zp, xp + xq
+    c = 2.0 * np.pi / 6.0
+    grad = np.zeros_like(xy)
+    np.add.at(grad, i, c * np.column_stack([cross + s * zq, -s * xq]))
+    np.add.at(grad, j, c * np.column_stack([cross - s * zp, s * xp]))
+    return grad
+
+
+@dataclass(frozen=True)
+class PolygonMeasure:
+    """What the free-surface fixes conserve: the section's area in plane strain, the
+    revolved volume in axisymmetry (incompressible flow conserves the one that is the
+    body's volume), with its gradient."""
+
+    size: Callable[[np.ndarray, np.ndarray], float]
+    gradient: Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+AREA = PolygonMeasure(lambda xy, seg: polygon_area(xy, seg),
+                      lambda xy, seg: area_gradient(xy, seg))
+REVOLVED = PolygonMeasure(revolved_volume, revolved_volume_gradient)
+
+
+def polygon_measure(axisymmetric: bool) -> PolygonMeasure:
+    return REVOLVED if axisymmetric else AREA
+
+
 def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
-                  target: float, iterations: int = 3) -> float:
-    """Shift ``movable`` vertices along the area gradient so the polygon encloses ``target``.
+                  target: float, iterations: int = 3,
+                  measure: PolygonMeasure = AREA) -> float:
+    """Shift ``movable`` vertices along the gradient of ``measure`` (the area, or the revolved
+    volume in axisymmetry) so that the polygon's measure is ``target``.
 
     The smallest displacement (in the least-squares sense) that restores the area: the
     discrete velocity carries no net flux through the boundary (Taylor–Hood, integral of
     div u_h = 0), so any area change comes from moving straight edges and is removed.
     Returns the relative area change applied, signed: (after - before) / target.
     """
-    before = polygon_area(xy, segments)
+    before = measure.size(xy, segments)
     for _ in range(iterations):
-        g = area_gradient(xy, segments)[movable]
+        g = measure.gradient(xy, segments)[movable]
         denom = float(np.sum(g * g))
         if denom == 0:
             break
-        delta = (target - polygon_area(xy, segments)) / denom
+        delta = (target - measure.size(xy, segments)) / denom
         xy[movable] += delta * g
-    return (polygon_area(xy, segments) - before) / abs(target)
+    return (measure.size(xy, segments) - before) / abs(target)

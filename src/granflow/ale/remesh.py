@@ -15,9 +15,10 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.free_surface import (
+    AREA,
     BoundaryChain,
+    PolygonMeasure,
     conserve_area,
-    polygon_area,
     segments_intersect,
 )
 from granflow.fem.sampling import triangles
@@ -69,7 +70,8 @@ class Remeshed:
     area_restored: float
 
 
-def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None) -> Remeshed:
+def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
+           measure: PolygonMeasure = AREA) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -83,10 +85,11 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None) -> Re
     inner free-surface vertices along the area gradient (``conserve_area``, as after every
     move), so a remesh changes the area only by round-off. ``edge_size(p, q)``, if given,
     is the target length on the boundary edge from p to q (a thin erodible layer).
+    ``measure``: what is restored, the area, or the revolved volume in axisymmetry.
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
-    area = polygon_area(xy[loop], _ring(len(loop)))
+    area = measure.size(xy[loop], _ring(len(loop)))
     keep = kept_boundary_vertices(xy[loop], labels, MIN_SURFACE_EDGE * size)
     points = [tuple(xy[loop[i]]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
@@ -95,7 +98,7 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None) -> Re
     ring = _ring(n)
     pts = np.array(points, dtype=float)
     inner = np.array([i for i in range(n) if edge_labels[i - 1] == edge_labels[i] == SURFACE])
-    restored = conserve_area(pts, ring, inner, area) if inner.size else 0.0
+    restored = conserve_area(pts, ring, inner, area, measure=measure) if inner.size else 0.0
     if segments_intersect(pts, ring):
         raise RuntimeError("the free surface folded through itself and merging close surface "
                            "nodes does not untangle it; cannot remesh")

@@ -16,6 +16,8 @@ import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
+from granflow.fem.measure import PLANE, Coordinates
+
 INWARD_NUDGE = 1e-9  # relative to the segment length: how far inside a clamped point sits
 
 
@@ -126,7 +128,8 @@ class StateTransfer:
     ((u^n, p^n) and (u^{n-1}, p^{n-1})), so both share one assembly and one factorisation.
     """
 
-    def __init__(self, space: ngs.FESpace, walls: list[str], penalty: float) -> None:
+    def __init__(self, space: ngs.FESpace, walls: list[str], penalty: float,
+                 coords: Coordinates = PLANE) -> None:
         mesh = space.mesh
         self.mesh = mesh
         self.mid, self.ends = _edge_midpoints(mesh)
@@ -136,17 +139,18 @@ class StateTransfer:
         bubble = ngs.GridFunction(scalar)
         bubble.vec.FV().NumPy()[self.edge_dofs] = 1.0
         self.bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in self.mid])
-        # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0
+        # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0, with
+        # the measure and divergence of the coordinates (r-weighted in axisymmetry)
         (u, lam), (v, q) = space.TnT()
         n = ngs.specialcf.normal(mesh.dim)
         a = ngs.BilinearForm(space)
-        a += (u * v - lam * ngs.div(v) - q * ngs.div(u)) * ngs.dx
+        a += coords.dx(u * v - lam * coords.div(v) - q * coords.div(u))
         if walls:
-            a += penalty * (u * n) * (v * n) * ngs.ds(
-                definedon=mesh.Boundaries("|".join(walls)))
+            a += coords.ds(penalty * (u * n) * (v * n),
+                           definedon=mesh.Boundaries("|".join(walls)))
         self._source = ngs.GridFunction(space)
         self._rhs = ngs.LinearForm(space)
-        self._rhs += self._source.components[0] * v * ngs.dx
+        self._rhs += coords.dx(self._source.components[0] * v)
         a.Assemble()
         self._matrix = a       # held with its factorisation for the transfer's lifetime
         self._inverse = a.mat.Inverse(space.FreeDofs(), inverse="umfpack")
@@ -200,9 +204,9 @@ class StateTransfer:
 
 
 def transfer_state(old: ngs.GridFunction, new: ngs.GridFunction, walls: list[str],
-                   penalty: float) -> None:
+                   penalty: float, coords: Coordinates = PLANE) -> None:
     """(u, p) from a Taylor-Hood field on the old mesh to one on the new mesh."""
-    StateTransfer(new.space, walls, penalty).apply(old, new)
+    StateTransfer(new.space, walls, penalty, coords).apply(old, new)
 
 
 def transfer_tensor(old: ngs.GridFunction, new: ngs.GridFunction) -> None:

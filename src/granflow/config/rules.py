@@ -65,6 +65,7 @@ def problems(c: Config) -> Iterator[str]:
             yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
                    "geometry.kind = 'column' (its free surface must move); "
                    "use 'elastic' (3.6) or 'lagrange' (3.7)")
+        yield from _axisymmetric_problems(c)
         run = g.height / math.tan(math.radians(g.front_angle_deg))  # horizontal extent of front
         if g.shape == "trapezoid" and run >= g.width:
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
@@ -124,6 +125,26 @@ def _bulk_area(c: Config) -> float:
     return g.width * g.height - 0.5 * g.height * min(run, g.width)
 
 
+def _axisymmetric_problems(c: Config) -> Iterator[str]:
+    """What an axisymmetric column cannot have: a slope (no longer symmetric), a channel's
+    side walls, the plane-strain-only augmented Lagrangian and primal-dual correction."""
+    if not c.geometry.axisymmetric:
+        return
+    if c.geometry.slope_deg != 0:
+        yield (f"geometry.slope_deg = {c.geometry.slope_deg!r} needs a plane-strain column: "
+               "a cylinder on a slope is not axisymmetric (use geometry.axisymmetric = false)")
+    if c.boundary.channel_width is not None:
+        yield (f"boundary.channel_width = {c.boundary.channel_width!r}: side walls need a "
+               "plane-strain channel, not an axisymmetric column")
+    if c.numerics.method == "augmented-lagrangian":
+        yield ("numerics.method = 'augmented-lagrangian' is plane strain only; use "
+               "'regularized' with geometry.axisymmetric = true")
+    if c.numerics.linearization == "primal-dual":
+        yield ("numerics.linearization = 'primal-dual' is plane strain only (its dual "
+               "correction is built on the 2 x 2 strain rate); use 'picard', 'newton' or "
+               "'hybrid' with geometry.axisymmetric = true")
+
+
 def inert_keys(c: Config) -> dict[str, str]:
     """Keys that change nothing in a run of ``c``, each with the reason (shown to a user
     who sets one). Every other key changes a result (tests/unit/test_config_keys.py)."""
@@ -138,7 +159,8 @@ def inert_keys(c: Config) -> dict[str, str]:
             "it is a parameter of mu(I), and material.rheology = 'drucker-prager'")
     if g.kind == "periodic-layer":
         add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
-            "geometry.bed_length", "it describes a column, and geometry.kind = 'periodic-layer'")
+            "geometry.bed_length geometry.axisymmetric",
+            "it describes a column, and geometry.kind = 'periodic-layer'")
         add("boundary.channel_width boundary.side_wall_friction_deg",
             "the periodic layer is infinitely wide (the plane shear of section 4)")
         add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
@@ -155,6 +177,9 @@ def inert_keys(c: Config) -> dict[str, str]:
     else:
         add("geometry.length initial.shear_rate initial.plug_base mesh.cells_x",
             "it describes the periodic layer, and geometry.kind = 'column'")
+        if g.axisymmetric:
+            add("boundary.wall_friction_deg", "geometry.axisymmetric = true: x = 0 is the "
+                "symmetry axis (u_r = 0, no friction), not a wall")
         if g.erodible_thickness == 0:
             add("geometry.bed_length mesh.layer_cells",
                 "it describes the erodible layer, and geometry.erodible_thickness = 0")

@@ -106,6 +106,7 @@ class Geometry(_Section):
     front_angle_deg: Annotated[float, Field(gt=0, le=90)]  # column front angle alpha0
     erodible_thickness: Annotated[float, Field(ge=0, le=1e4)]  # column: he, 0 = rigid bed
     bed_length: Length  # column on an erodible layer: where the layer ends
+    axisymmetric: bool  # column: a cylinder in r-z (width = its radius r0; x = 0 is the axis)
 
 
 class Boundary(_Section):

@@ -5,7 +5,8 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from granflow.diagnostics.conservation import mesh_area
+from granflow.diagnostics.conservation import mesh_volume
+from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.sampling import cell_means
 
 FLOWING_SPEED = 1e-3  # m/s: a cell flows when |u| exceeds it (paper section 5.1.2)
@@ -19,16 +20,19 @@ def flowing_cells(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
 
 
 def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, density: float,
-                   cell_speed: tuple[np.ndarray, np.ndarray] | None = None) -> dict[str, float]:
-    """volume, kinetic_energy, max_speed (max cell-mean |u|), flowing_fraction (by area).
+                   cell_speed: tuple[np.ndarray, np.ndarray] | None = None,
+                   coords: Coordinates = PLANE) -> dict[str, float]:
+    """volume, kinetic_energy, max_speed (max cell-mean |u|), flowing_fraction (by area of
+    the section). Volume and energy per metre of width in plane strain (m^2, J/m), of the
+    whole body in axisymmetry (m^3, J).
 
     ``cell_speed`` = (mean |u| per cell, cell areas) when the caller already has them.
     """
     speed, areas = cell_speed if cell_speed is not None else cell_means(mesh, ngs.Norm(velocity))
-    energy = 0.5 * density * ngs.Integrate(velocity * velocity, mesh, order=4)
+    energy = 0.5 * density * coords.integrate(velocity * velocity, mesh, order=4)
     flowing = speed > FLOWING_SPEED
     return {
-        "volume": mesh_area(mesh),
+        "volume": mesh_volume(mesh, coords.axisymmetric),
         "kinetic_energy": float(energy),
         "max_speed": float(speed.max()),
         "flowing_fraction": float(areas[flowing].sum() / areas.sum()),

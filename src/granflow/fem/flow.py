@@ -21,8 +21,8 @@ from granflow.fem.forms import (
     frobenius,
     momentum_terms,
     residual_form,
-    strain_rate,
 )
+from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.nonlinear import FixedPointSystem, NonlinearSolver, ResidualSystem
 from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
@@ -47,13 +47,15 @@ class FlowSolver:
                  linear_solver: str = "umfpack", initial_guess: str = "previous",
                  surface_tension_on: str | None = None,
                  side_walls: SideWallFriction | None = None,
-                 augmentation: float | None = None, scheme: str = "implicit-euler") -> None:
+                 augmentation: float | None = None, scheme: str = "implicit-euler",
+                 coordinates: Coordinates = PLANE, axis: str = "") -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
         self.rheology = rheology
         self.density = density
-        self.space = taylor_hood(mesh, periodic=periodic, dirichlet=dirichlet)
+        self.coordinates = coordinates
+        self.space = taylor_hood(mesh, periodic=periodic, dirichlet=dirichlet, axis=axis)
         self.solution = ngs.GridFunction(self.space)    # (u^{n+1,k}, p^{n+1,k})
         self.scheme: TimeScheme = time_scheme(scheme, self.space, density)
         self.previous = self.scheme.previous                # (u^n, p^n)
@@ -67,6 +69,8 @@ class FlowSolver:
                     else SurfaceTraction(surface_tension_on, self.surface_tension))
         stress = None
         if augmentation is not None:        # the augmented Lagrangian method, not (2.13)
+            if coordinates.axisymmetric:
+                raise ValueError("the augmented Lagrangian method is plane strain only")
             if not isinstance(rheology, DruckerPrager):
                 raise ValueError("the augmented Lagrangian method needs the Drucker-Prager law")
             self.strain = ngs.GridFunction(tensor_space(mesh))       # d
@@ -78,21 +82,22 @@ class FlowSolver:
             density=density, inertia=self.scheme.inertia(),
             mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
             walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls,
-            stress=stress)
+            stress=stress, coords=coordinates)
         freedofs = self.space.FreeDofs()
-        forms = fixed_point_forms(self.space, self.terms, self.solution)
+        forms = fixed_point_forms(self.space, self.terms, self.solution, coordinates)
         dual = correction = None
-        # the correction is built for the Drucker-Prager law; with another law (mu(I))
-        # "primal-dual" is the plain iteration (3.2) (docs/parameters.md)
+        # the correction is built for the plane Drucker-Prager law; with another law (mu(I))
+        # or in axisymmetry "primal-dual" is the plain iteration (3.2) (docs/parameters.md)
         if (linearization == "primal-dual" and augmentation is None
-                and isinstance(rheology, DruckerPrager)):
+                and isinstance(rheology, DruckerPrager) and not coordinates.axisymmetric):
             dual = DualVariable(mesh, rheology, self.solution)
             correction = dual.forms(self.space)
         picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
                                   constant=forms.constant, correction=correction)
         self.nonlinear = NonlinearSolver(
             picard=picard,
-            newton=ResidualSystem(residual_form(self.space, self.terms), freedofs, linear_solver),
+            newton=ResidualSystem(residual_form(self.space, self.terms, coordinates), freedofs,
+                                  linear_solver),
             state=self.solution, dual=dual)
         self.augmented = (None if augmentation is None else AugmentedLagrangian(
             rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
@@ -170,7 +175,7 @@ class FlowSolver:
         factor = self.scheme.error_predictor(dt, guess)
         if factor is None:
             return None
-        root_area = math.sqrt(self.volume())
+        root_area = math.sqrt(ngs.Integrate(ngs.CF(1.0), self.mesh))   # RMS of the L2 norm
         guess.vec.data -= self.solution.vec
         difference = self.nonlinear.velocity_l2(guess.vec)
         speed = self.nonlinear.velocity_l2(self.solution.vec)
@@ -247,14 +252,15 @@ class FlowSolver:
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:
-        return ngs.Integrate(ngs.CF(1.0), self.mesh)
+        """m^2 per metre of width in plane strain, m^3 in axisymmetry."""
+        return self.coordinates.integrate(ngs.CF(1.0), self.mesh)
 
     def kinetic_energy(self) -> float:
         u = self.velocity
-        return 0.5 * self.density * ngs.Integrate(u * u, self.mesh)
+        return 0.5 * self.density * self.coordinates.integrate(u * u, self.mesh)
 
     def strain_rate_norm(self) -> ngs.CoefficientFunction:
-        return frobenius(strain_rate(self.velocity))
+        return frobenius(self.coordinates.strain_rate(self.velocity))
 
     def effective_viscosity(self) -> ngs.CoefficientFunction:
         return self.rheology.effective_viscosity(self.strain_rate_norm(), self.pressure,

@@ -22,12 +22,13 @@ from typing import Protocol
 import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.measure import PLANE, Coordinates
 from granflow.physics import CoulombFriction, Rheology, SideWallFriction
 
 
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-    """Du = (grad u + grad u^T) / 2."""
-    return ngs.Sym(ngs.Grad(u))
+    """Du = (grad u + grad u^T) / 2 in plane strain (``fem/measure.py`` for axisymmetry)."""
+    return PLANE.strain_rate(u)
 
 
 def frobenius(tensor: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -44,12 +45,17 @@ def tangential(u: ngs.CoefficientFunction, n: ngs.CoefficientFunction) -> ngs.Co
 # same discrete law: NGSolve would pick order 2 (3 points) for the Picard form, where the
 # coefficient is a known field, and order 4 for Newton's, where it depends on the unknown.
 # Order 2 is what the verified runs (docs/verification.md) used.
-VISCOPLASTIC_DX = ngs.dx(intrules={ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 2)})
+VISCOPLASTIC_RULES = {ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 2)}
+# In r-z the integrand r Du : Dv has degree 3 plus the hoop part u_r v_r / r: the 3-point
+# rule leaves the viscous matrix singular (tests/verification/test_axisymmetric_stokes.py),
+# a 6-point rule of order 4 does not.
+AXISYMMETRIC_VISCOPLASTIC_RULES = {ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 4)}
 
 
 @dataclass(frozen=True)
 class Symbols:
-    """Unknowns (u, p), tests (v, q) and the point (u_lin, p_lin) where coefficients live."""
+    """Unknowns (u, p), tests (v, q), the point (u_lin, p_lin) where coefficients live, and
+    the coordinates that give every term its measure, strain rate and divergence."""
 
     u: ngs.CoefficientFunction
     p: ngs.CoefficientFunction
@@ -57,6 +63,7 @@ class Symbols:
     q: ngs.CoefficientFunction
     u_lin: ngs.CoefficientFunction
     p_lin: ngs.CoefficientFunction
+    coords: Coordinates = PLANE
 
 
 class Term(Protocol):
@@ -92,10 +99,10 @@ class Inertia:
     step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density / self.dt * s.u * s.v * ngs.dx
+        return s.coords.dx(self.density / self.dt * s.u * s.v)
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density / self.dt * self.previous * s.v * ngs.dx
+        return s.coords.dx(self.density / self.dt * self.previous * s.v)
 
 
 @dataclass(frozen=True)
@@ -110,10 +117,10 @@ class BackwardDifferenceInertia:
     step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density * self.a0 / self.dt * s.u * s.v * ngs.dx
+        return s.coords.dx(self.density * self.a0 / self.dt * s.u * s.v)
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density / self.dt * self.history * s.v * ngs.dx
+        return s.coords.dx(self.density / self.dt * self.history * s.v)
 
 
 @dataclass(frozen=True)
@@ -124,7 +131,7 @@ class Convection(_LhsOnly):
     mesh_velocity: ngs.CoefficientFunction
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density * (ngs.Grad(s.u) * (s.u_lin - self.mesh_velocity)) * s.v * ngs.dx
+        return s.coords.dx(self.density * (ngs.Grad(s.u) * (s.u_lin - self.mesh_velocity)) * s.v)
 
 
 @dataclass(frozen=True)
@@ -133,25 +140,30 @@ class ViscoplasticStress(_LhsOnly):
     (2.13) with kappa = sqrt(2) mu_s [p]_+ (2.4), or with mu(I) in place of mu_s."""
 
     rheology: Rheology
+    coords: Coordinates = PLANE
 
     def viscosity(self, u_lin: ngs.CoefficientFunction,
                   p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        du = strain_rate(u_lin)
+        du = self.coords.strain_rate(u_lin)
         return self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
 
     def wall_deviatoric(self, u_lin: ngs.CoefficientFunction, p_lin: ngs.CoefficientFunction,
                         frozen: bool) -> ngs.CoefficientFunction:
-        """sigma' = m Du at (u_lin, p_lin) on a wall (what loads the wall friction); a
-        known (frozen) strain rate is traced from the volume before m is formed."""
-        du = strain_rate(u_lin)
+        """sigma' = m Du at (u_lin, p_lin) on a wall (what loads the wall friction), its
+        in-plane block; a known (frozen) strain rate is traced from the volume before m is
+        formed."""
+        du = self.coords.strain_rate(u_lin)
         if frozen:
             du = ngs.BoundaryFromVolumeCF(du)
         m = self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
-        return m * du
+        return self.coords.in_plane(m * du)
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         m = self.viscosity(s.u_lin, s.p_lin)
-        return m * ngs.InnerProduct(strain_rate(s.u), strain_rate(s.v)) * VISCOPLASTIC_DX
+        c = s.coords
+        rules = AXISYMMETRIC_VISCOPLASTIC_RULES if c.axisymmetric else VISCOPLASTIC_RULES
+        return c.dx(m * ngs.InnerProduct(c.strain_rate(s.u), c.strain_rate(s.v)),
+                    intrules=rules)
 
 
 @dataclass(frozen=True)
@@ -161,7 +173,7 @@ class Incompressibility(_LhsOnly):
     step_constant = True
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return (-s.p * ngs.div(s.v) - s.q * ngs.div(s.u)) * ngs.dx
+        return s.coords.dx(-s.p * s.coords.div(s.v) - s.q * s.coords.div(s.u))
 
 
 @dataclass(frozen=True)
@@ -175,7 +187,7 @@ class BodyForce:
         return None
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return self.density * ngs.CF(self.force) * s.v * ngs.dx
+        return s.coords.dx(self.density * ngs.CF(self.force) * s.v)
 
 
 @dataclass(frozen=True)
@@ -212,16 +224,18 @@ class CoulombWallFriction(_LhsOnly):
         frozen = s.u_lin is not s.u
         region = mesh.Boundaries(self.wall.region)
         slip = tangential(s.u_lin, n)
+        skeleton = False
         if self.wall.normal_load == "reaction":
             load = self.penalty * (s.u_lin * n)
-            measure = ngs.ds(definedon=region)
         else:
             sigma = self.stress.wall_deviatoric(s.u_lin, s.p_lin, frozen)
             load = s.p_lin - ngs.InnerProduct(sigma * n, n)
-            measure = (ngs.ds(definedon=region) if frozen
-                       else ngs.ds(skeleton=True, definedon=region))
+            skeleton = not frozen
         drag = self.wall.law.drag_coefficient_sq(slip * slip, load, NGSOLVE_OPS)
-        return drag * tangential(s.u, n) * tangential(s.v, n) * measure
+        integrand = drag * tangential(s.u, n) * tangential(s.v, n)
+        if skeleton:
+            return s.coords.ds(integrand, skeleton=True, definedon=region)
+        return s.coords.ds(integrand, definedon=region)
 
 
 @dataclass(frozen=True)
@@ -234,8 +248,8 @@ class NormalPenalty(_LhsOnly):
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         n = ngs.specialcf.normal(mesh.dim)
-        return self.penalty * (s.u * n) * (s.v * n) * ngs.ds(
-            definedon=mesh.Boundaries(self.region))
+        return s.coords.ds(self.penalty * (s.u * n) * (s.v * n),
+                           definedon=mesh.Boundaries(self.region))
 
 
 @dataclass(frozen=True)
@@ -247,7 +261,7 @@ class ChannelSideWalls(_LhsOnly):
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         drag = self.law.drag_coefficient_sq(s.u_lin * s.u_lin, s.p_lin, NGSOLVE_OPS)
-        return drag * s.u * s.v * ngs.dx
+        return s.coords.dx(drag * s.u * s.v)
 
 
 @dataclass(frozen=True)
@@ -263,7 +277,7 @@ class SurfaceTraction:
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         n = ngs.specialcf.normal(mesh.dim)
-        return self.gamma * (s.v * n) * ngs.ds(definedon=mesh.Boundaries(self.region))
+        return s.coords.ds(self.gamma * (s.v * n), definedon=mesh.Boundaries(self.region))
 
 
 def momentum_terms(*, density: float, inertia: Term,
@@ -272,12 +286,13 @@ def momentum_terms(*, density: float, inertia: Term,
                    penalty: float = 0.0,
                    surface_traction: SurfaceTraction | None = None,
                    side_walls: SideWallFriction | None = None,
-                   stress: StressTerm | None = None) -> list[Term]:
+                   stress: StressTerm | None = None,
+                   coords: Coordinates = PLANE) -> list[Term]:
     """The terms of (3.2a)-(3.2b) for a flow with the given walls (and surface tension,
     and the drag of a channel's side walls); ``inertia`` is the time scheme's
     (``fem/time_scheme.py``), ``stress`` replaces the regularised law (the augmented
     Lagrangian's)."""
-    stress = stress or ViscoplasticStress(rheology)
+    stress = stress or ViscoplasticStress(rheology, coords)
     terms: list[Term] = [inertia, Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
     for wall in walls:
@@ -289,18 +304,20 @@ def momentum_terms(*, density: float, inertia: Term,
     return terms
 
 
-def _symbols(space: ngs.FESpace, linearisation: ngs.GridFunction | None) -> Symbols:
+def _symbols(space: ngs.FESpace, linearisation: ngs.GridFunction | None,
+             coords: Coordinates) -> Symbols:
     (u, p), (v, q) = space.TnT()
     if linearisation is None:
-        return Symbols(u=u, p=p, v=v, q=q, u_lin=u, p_lin=p)
+        return Symbols(u=u, p=p, v=v, q=q, u_lin=u, p_lin=p, coords=coords)
     u_lin, p_lin = linearisation.components
-    return Symbols(u=u, p=p, v=v, q=q, u_lin=u_lin, p_lin=p_lin)
+    return Symbols(u=u, p=p, v=v, q=q, u_lin=u_lin, p_lin=p_lin, coords=coords)
 
 
-def residual_form(space: ngs.FESpace, terms: Sequence[Term]) -> ngs.BilinearForm:
+def residual_form(space: ngs.FESpace, terms: Sequence[Term],
+                  coords: Coordinates = PLANE) -> ngs.BilinearForm:
     """R(x; v, q) = lhs - rhs with every coefficient at the unknowns (Newton): ``Apply``
     gives R(x), ``AssembleLinearization`` the consistent tangent dR/dx."""
-    s = _symbols(space, None)
+    s = _symbols(space, None, coords)
     form = ngs.BilinearForm(space)
     for term in terms:
         if (lhs := term.lhs(s, space.mesh)) is not None:
@@ -322,10 +339,11 @@ class FixedPointForms:
 
 
 def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
-                      iterate: ngs.GridFunction) -> FixedPointForms:
+                      iterate: ngs.GridFunction,
+                      coords: Coordinates = PLANE) -> FixedPointForms:
     """The same terms with coefficients frozen at ``iterate``: the matrix and right-hand
     side of one Picard iteration (3.2)."""
-    s = _symbols(space, iterate)
+    s = _symbols(space, iterate, coords)
     a, a0, f = ngs.BilinearForm(space), ngs.BilinearForm(space), ngs.LinearForm(space)
     for term in terms:
         if (lhs := term.lhs(s, space.mesh)) is not None:

@@ -26,7 +26,7 @@ their right-hand sides: the discrete solution is the one of (3.2). The wall fric
 stays Picard.
 
 lambda lives at the quadrature points of the viscoplastic term (the three edge midpoints,
-``VISCOPLASTIC_DX``) in an ``IntegrationRuleSpace``, so no projection enters.
+``VISCOPLASTIC_RULES``) in an ``IntegrationRuleSpace``, so no projection enters.
 """
 
 from __future__ import annotations

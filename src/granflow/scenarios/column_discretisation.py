@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 
 from granflow.ale.column_mover import ColumnMover
+from granflow.ale.free_surface import polygon_measure
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import EdgeSize
 from granflow.ale.surface_tension import SurfaceTension
@@ -17,6 +18,7 @@ from granflow.config import Config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
+from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
 from granflow.geometry.mesh import BED, END, SURFACE, WALL
 from granflow.physics import CoulombFriction, gravity_vector
 from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
@@ -46,12 +48,27 @@ def layer_edge_sizes(config: Config) -> EdgeSize | None:
     return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
 
 
+def coordinates(config: Config) -> Coordinates:
+    """Plane strain, or r-z for an axisymmetric column (``fem/measure.py``)."""
+    return AXISYMMETRIC if config.geometry.axisymmetric else PLANE
+
+
+def friction_walls(config: Config) -> list[str]:
+    """The boundaries with Coulomb friction and the normal penalty: the bed, the wall at
+    x = 0 unless it is the symmetry axis, and the far end of an erodible layer."""
+    walls = [BED] if config.geometry.axisymmetric else [BED, WALL]
+    return [*walls, END] if config.geometry.erodible_thickness > 0 else walls
+
+
 def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
-    """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``."""
+    """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``;
+    in axisymmetry the left boundary is the axis: u_r = 0 there, no friction, no penalty."""
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
     load = bnd.normal_load
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load),
-             FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, num.eps_friction), load)]
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load)]
+    if not geo.axisymmetric:
+        walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg,
+                                                        num.eps_friction), load))
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
     st = config.surface_tension
@@ -63,7 +80,8 @@ def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
                         surface_tension_on=SURFACE if st.enabled else None,
                         side_walls=build_side_walls(config),
                         augmentation=augmentation(config),
-                        scheme=config.time.scheme)
+                        scheme=config.time.scheme, coordinates=coordinates(config),
+                        axis=WALL if geo.axisymmetric else "")
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg) if st.enabled else None)
@@ -75,5 +93,6 @@ def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
     mover = ColumnMover(mesh, w_solver,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
-                        conserve_volume=num.volume_correction, tension=tension)
+                        conserve_volume=num.volume_correction, tension=tension,
+                        measure=polygon_measure(geo.axisymmetric))
     return ColumnDiscretisation(mesh, solver, mover)

@@ -11,10 +11,10 @@ from typing import Any
 from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.transfer import StateTransfer, transfer_tensor
 from granflow.config import Config
-from granflow.geometry.mesh import BED, END, WALL
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
+    friction_walls,
     layer_edge_sizes,
 )
 from granflow.simulation.simulation import Simulation
@@ -48,14 +48,15 @@ class ColumnRemesher:
     def remesh(self) -> None:
         """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it."""
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
-        remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config))
+        remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
+                          old.mover.measure)
         new = discretise(self.config, remeshed.mesh)
         change = (new.mover.area() - old.mover.area()) / old.mover.initial_area
         self.changes.append(change)
         self.restored.append(remeshed.area_restored)
         self.unrecorded_change += change
-        transfer = StateTransfer(new.solver.space, [BED, WALL, END],
-                                 self.config.boundary.penalty)
+        transfer = StateTransfer(new.solver.space, friction_walls(self.config),
+                                 self.config.boundary.penalty, new.solver.coordinates)
         new.solver.inherit(old.solver, transfer.apply, transfer_tensor)
         new.mover.inherit(old.mover)
         self.current.replace(new)

@@ -1,0 +1,96 @@
+"""Plane strain or axisymmetry: the only place that knows which.
+
+Plane strain, coordinates (x, z): the weak forms integrate over the section with dx and ds,
+Du = (grad u + grad u^T) / 2 is 2 x 2 and div u = d_x u_x + d_z u_z (2.1).
+
+Axisymmetric without swirl, coordinates (r, z) with r = x (the symmetry axis is x = 0):
+a volume integral over the solid of revolution is 2 pi times the section's integral weighted
+by r, so every weak form carries the weight r (the common factor 2 pi cancels); the strain
+rate gains the hoop component u_r / r,
+
+    Du = [[d_r u_r, (d_z u_r + d_r u_z) / 2, 0],
+          [(d_z u_r + d_r u_z) / 2, d_z u_z, 0],
+          [0, 0, u_r / r]],
+
+which enters |Du| and Du : Dv (Frobenius, as in (2.13)), and div u = d_r u_r + u_r / r +
+d_z u_z. On the axis u_r = 0 (imposed strongly on the velocity space, ``axis_region``);
+quadrature points lie inside the triangles, never on r = 0, so u_r / r is always finite.
+Convection (u . grad) u, gravity and the boundary terms keep their plane form, weighted.
+
+The terms of (3.2) (``fem/forms.py``), the divergence-free transfer after a remesh
+(``ale/transfer.py``) and the integrated diagnostics take their measure, strain rate and
+divergence from a ``Coordinates``; in plane strain it returns the very expressions written
+before axisymmetry existed, so plane results are unchanged to the last digit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import ngsolve as ngs
+
+
+@dataclass(frozen=True)
+class Coordinates:
+    """Plane strain (``axisymmetric=False``) or axisymmetric r-z coordinates."""
+
+    axisymmetric: bool = False
+
+    @property
+    def name(self) -> str:
+        return "axisymmetric" if self.axisymmetric else "plane strain"
+
+    def dx(self, integrand: ngs.CoefficientFunction, **kwargs: Any) -> ngs.SumOfIntegrals:
+        """integrand dx over the section, times r in axisymmetry."""
+        if self.axisymmetric:
+            return (ngs.x * integrand) * ngs.dx(**kwargs)
+        return integrand * ngs.dx(**kwargs)
+
+    def ds(self, integrand: ngs.CoefficientFunction, **kwargs: Any) -> ngs.SumOfIntegrals:
+        """integrand ds over boundary edges of the section, times r in axisymmetry."""
+        if self.axisymmetric:
+            return (ngs.x * integrand) * ngs.ds(**kwargs)
+        return integrand * ngs.ds(**kwargs)
+
+    def strain_rate(self, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """Du: 2 x 2 in plane strain, 3 x 3 with the hoop component u_r / r in axisymmetry."""
+        if not self.axisymmetric:
+            return ngs.Sym(ngs.Grad(u))
+        g = ngs.Grad(u)
+        shear = 0.5 * (g[0, 1] + g[1, 0])
+        return ngs.CF((g[0, 0], shear, 0.0,
+                       shear, g[1, 1], 0.0,
+                       0.0, 0.0, u[0] / ngs.x), dims=(3, 3))
+
+    def in_plane(self, tensor: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """The r-z block of a stress or strain tensor: what acts on a boundary of the
+        section, whose normal has no hoop component (the tensor itself in plane strain)."""
+        if not self.axisymmetric:
+            return tensor
+        return ngs.CF((tensor[0, 0], tensor[0, 1], tensor[1, 0], tensor[1, 1]), dims=(2, 2))
+
+    def div(self, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """div u, with + u_r / r in axisymmetry."""
+        if not self.axisymmetric:
+            return ngs.div(u)
+        return ngs.div(u) + u[0] / ngs.x
+
+    def integrate(self, integrand: ngs.CoefficientFunction, mesh: ngs.Mesh,
+                  order: int | None = None) -> float:
+        """The integral over the body: per metre of width in plane strain (m^2 for 1), over
+        the solid of revolution in axisymmetry (2 pi r weight; m^3 for 1). ``order``: the
+        quadrature order (NGSolve's default when None; one more for the weight r)."""
+        if not self.axisymmetric:
+            if order is None:
+                return float(ngs.Integrate(integrand, mesh))
+            return float(ngs.Integrate(integrand, mesh, order=order))
+        weighted = ngs.x * integrand
+        if order is None:
+            return 2.0 * math.pi * float(ngs.Integrate(weighted, mesh))
+        return 2.0 * math.pi * float(ngs.Integrate(weighted, mesh, order=order + 1))
+
+
+PLANE = Coordinates(axisymmetric=False)
+AXISYMMETRIC = Coordinates(axisymmetric=True)
