@@ -163,7 +163,7 @@ class RunPlots:
         surfaces = self._run.surfaces
         for t, rows in surfaces[surfaces["kind"] == "free_surface"].groupby("t"):
             ax.plot(rows["x"], rows["z"], label=f"t = {t:.3g} s")
-        ax.set_xlabel("x (m)")
+        ax.set_xlabel("r (m)" if self._run.config.geometry.axisymmetric else "x (m)")
         ax.set_ylabel("z (m)")
         ax.set_aspect("equal")
         ax.set_title(f"{self._run.summary.scenario}: free surface")

@@ -66,7 +66,8 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     rest = summary.get("outputs_at_rest") or [] if final is not None else []
     times = [t for t in config.time.output_times if not any(abs(t - x) < 1e-9 for x in rest)]
     height = config.geometry.height
-    bed = _bed_note(config.geometry.slope_deg)
+    bed = _bed_note(config.geometry.slope_deg, config.geometry.axisymmetric)
+    x = "r" if config.geometry.axisymmetric else "x"     # the radius of a cylinder
     outline = initial_outline(config)
     fig, ax = plt.subplots(figsize=(8, 3))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
@@ -74,7 +75,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         ax.plot(prof["x"], prof["z"], label=_label(t, summary))
     if final is not None:
         ax.plot(final[1]["x"], final[1]["z"], color="k", lw=1.2, label=final[0])
-    ax.set(xlabel="x (m)", ylabel="z (m)", title=f"Free surface{bed}",
+    ax.set(xlabel=f"{x} (m)", ylabel="z (m)", title=f"Free surface{bed}",
            aspect=_aspect(ax, height))
     _legend(ax)
     save_figure(fig, run_dir.path("plots/free_surface.png"))
@@ -86,7 +87,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         surf = _profiles(run_dir, "free_surface", [t])
         if surf:
             ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
-    ax.set(xlabel="x (m)", ylabel="z (m)", aspect=_aspect(ax, height),
+    ax.set(xlabel=f"{x} (m)", ylabel="z (m)", aspect=_aspect(ax, height),
            title="Static/flowing interface: edges of the cells with |u| > 1 mm/s (steps "
                  f"of one cell){bed}; dotted: free surface")
     _legend(ax)
@@ -104,8 +105,8 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
                 m = np.isclose(p["section_x"], xs)
                 axes[0][j].plot(p["u_x"][m], p["z"][m], label=_label(t, summary, ""))
                 axes[1][j].plot(p["u_z"][m], p["z"][m])
-            axes[0][j].set_title(f"section x = {xs:.3f} m")
-            axes[0][j].set_xlabel("u_x (m/s)")
+            axes[0][j].set_title(f"section {x} = {xs:.3f} m")
+            axes[0][j].set_xlabel(f"u_{x} (m/s)")
             axes[1][j].set_xlabel("u_z (m/s)")
         axes[0][0].set_ylabel("z (m)")
         axes[1][0].set_ylabel("z (m)")
@@ -119,18 +120,22 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     if len(diag):
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.2))
         a1.plot(diag["t"], diag["front_x"])
-        a1.set(xlabel="t (s)", ylabel="front x (m)", title=f"Front position{bed}")
+        a1.set(xlabel="t (s)", ylabel=f"front {x} (m)", title=f"Front position{bed}")
         a2.plot(diag["t"], diag["kinetic_energy"])
-        a2.set(xlabel="t (s)", ylabel="kinetic energy (J/m)", title="Kinetic energy")
+        energy = "J" if config.geometry.axisymmetric else "J/m"   # whole body, or per metre
+        a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
         save_figure(fig, run_dir.path("plots/front_and_energy.png"))
 
     frames = read_frames(run_dir.root)
     if frames:
-        _animate(run_dir.path("plots/speed.gif"), frames, outline, height, bed)
+        _animate(run_dir.path("plots/speed.gif"), frames, outline, height, bed, x)
 
 
-def _bed_note(slope_deg: float) -> str:
-    """Words for a title: x runs along the bed, which is inclined on a slope."""
+def _bed_note(slope_deg: float, axisymmetric: bool = False) -> str:
+    """Words for a title: x runs along the bed, which is inclined on a slope; or the
+    section of a cylinder, r from its axis."""
+    if axisymmetric:
+        return " (axisymmetric: r from the axis)"
     return f" (x along the bed, inclined at {slope_deg:g}°)" if slope_deg else ""
 
 
@@ -147,7 +152,7 @@ def _legend(ax: plt.Axes) -> None:
 
 
 def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
-             height: float, bed: str = "") -> None:
+             height: float, bed: str = "", x: str = "x") -> None:
     """The GIF of the cell speeds: axes, ticks and outline are drawn once; each frame
     redraws only its mesh colours, interface and title over that background (blitting)
     and goes to Pillow as it is: a fifth of the time of redrawing whole figures."""
@@ -155,7 +160,7 @@ def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
     vmax = max(float(f["speed"].max()) for f in frames) or 1.0
     fig, ax = plt.subplots(figsize=(8.6, 3.0))
     ax.plot(*outline.T, "--", color="0.6", lw=0.8)
-    ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal", xlabel="x (m)",
+    ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal", xlabel=f"{x} (m)",
            ylabel="z (m)")
     scale = plt.cm.ScalarMappable(norm=plt.Normalize(0, vmax), cmap="viridis")
     fig.colorbar(scale, ax=ax, label="speed |u| (m/s)", fraction=0.025, pad=0.02)

@@ -165,6 +165,8 @@ class ColumnMeasures:
             "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),
             "front_settle_time_s": front_diag.settle_time(h["t"], h["front_x"]),
             "wall_height_m": front_diag.wall_height(xy),
+            **({"axis_height_m": front_diag.wall_height(xy)}      # h_inf of a cylinder
+               if self.config.geometry.axisymmetric else {}),
             ("initial_volume_m3" if self.config.geometry.axisymmetric else "initial_area_m2"):
                 mover.initial_area,    # what the free-surface fix conserves
             "deposited_segments": mover.relabelled_segments,
