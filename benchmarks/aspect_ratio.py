@@ -33,6 +33,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+from common.fits import power_fit
 
 from granflow.io.run_dir import atomic_file, atomic_write_text
 from granflow.sweep import Cluster, load_sweep, run_sweep
@@ -57,12 +58,6 @@ def published_runout(law: str, a: np.ndarray) -> np.ndarray:
 def lube_height(a: np.ndarray) -> np.ndarray:
     """h_inf/l0 of Lube et al. (2005): a below a = 1.15 (the top stays), a^0.4 above."""
     return np.where(a < 1.15, a, a ** 0.4)
-
-
-def power_fit(a: np.ndarray, y: np.ndarray) -> tuple[float, float]:
-    """(k, n) of the least-squares line log y = log k + n log a."""
-    n, log_k = np.polyfit(np.log(a), np.log(y), 1)
-    return float(np.exp(log_k)), float(n)
 
 
 def analyse(out: Path, study: str) -> dict:

@@ -84,3 +84,16 @@ def test_axisymmetric_settings_are_refused_where_they_mean_nothing() -> None:
             load_config("cylinder-rigid", extra)
     with pytest.raises(ConfigError, match="geometry.axisymmetric"):
         load_config("plug-flow", ["geometry.axisymmetric=true"])
+
+
+def test_a_cylinder_over_an_erodible_layer_runs_and_keeps_its_volume() -> None:
+    """cylinder-erodible on a coarse mesh, with its surface tension: the layer reaches
+    r = 0.2 m (its far end is a frictionless wall), the revolved volume is kept."""
+    problem = build_column(load_config("cylinder-erodible", [
+        "mesh.size=0.02", "mesh.layer_cells=1", "geometry.bed_length=0.2", "time.t_end=0.03",
+        "time.output_times=[0.03]"]))
+    volume0 = problem.mover.area()
+    assert volume0 == pytest.approx(math.pi * 0.1**2 * 0.14 + math.pi * 0.2**2 * 0.005,
+                                    rel=1e-12)   # the cylinder and the layer's disc
+    assert problem.simulation.run().status == "completed"
+    assert abs(problem.mover.area() - volume0) / volume0 < 1e-12
