@@ -144,24 +144,34 @@ class ViscoplasticStress(_LhsOnly):
 
     def viscosity(self, u_lin: ngs.CoefficientFunction,
                   p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        du = self.coords.strain_rate(u_lin)
-        return self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
+        if self.coords.axisymmetric:
+            square = self.coords.strain_rate_sq(u_lin)
+        else:
+            du = self.coords.strain_rate(u_lin)
+            square = ngs.InnerProduct(du, du)
+        return self.rheology.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
 
     def wall_deviatoric(self, u_lin: ngs.CoefficientFunction, p_lin: ngs.CoefficientFunction,
                         frozen: bool) -> ngs.CoefficientFunction:
-        """sigma' = m Du at (u_lin, p_lin) on a wall (what loads the wall friction), its
-        in-plane block; a known (frozen) strain rate is traced from the volume before m is
-        formed."""
-        du = self.coords.strain_rate(u_lin)
+        """The in-plane block of sigma' = m Du at (u_lin, p_lin) on a wall (what loads the
+        wall friction; m sees the whole |Du|, hoop part included); a known (frozen) strain
+        rate is traced from the volume before m is formed."""
+        du = strain_rate(u_lin)              # the in-plane block, all a wall's normal sees
         if frozen:
             du = ngs.BoundaryFromVolumeCF(du)
-        m = self.rheology.effective_viscosity_sq(ngs.InnerProduct(du, du), p_lin, NGSOLVE_OPS)
-        return self.coords.in_plane(m * du)
+        square = ngs.InnerProduct(du, du)
+        if self.coords.axisymmetric:         # |Du|^2 has the hoop part, continuous across
+            square = square + self.coords.hoop_strain(u_lin) ** 2
+        m = self.rheology.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
+        return m * du
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         m = self.viscosity(s.u_lin, s.p_lin)
         c = s.coords
         rules = AXISYMMETRIC_VISCOPLASTIC_RULES if c.axisymmetric else VISCOPLASTIC_RULES
+        if c.axisymmetric:   # in parts: much faster to assemble than the 3 x 3 tensor form
+            parts = [c.dx(m * part, intrules=rules) for part in c.strain_product_parts(s.u, s.v)]
+            return parts[0] + parts[1]
         return c.dx(m * ngs.InnerProduct(c.strain_rate(s.u), c.strain_rate(s.v)),
                     intrules=rules)
 
