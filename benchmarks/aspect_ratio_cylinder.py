@@ -1,0 +1,198 @@
+"""Benchmark: cylinders of aspect ratio a = h0/r0 from 0.5 to 6 (axisymmetric, r0 = 10 cm)
+against the laws of laboratory cylinders, beside the plane-strain study.
+
+Run: python benchmarks/aspect_ratio_cylinder.py [--workers 2]
+         [--out benchmarks/results/aspect_ratio_cylinder] [--analyse-only]
+
+Runs `granflow sweep aspect-ratio-cylinder` (cylinder-rigid, 8 cells across the smaller
+side, to rest) into OUT/sweep, then writes OUT/aspect_ratio.json and .md (a, the normalised
+runout (r_inf - r0)/r0, the final height on the axis h_inf/r0, the stop time in s and in
+units of sqrt(h0/g)) with least-squares power laws k a^n (all runs, and a >= 1.7), and
+OUT/aspect_ratio.png (log-log) with:
+
+- Lube, Huppert, Sparks and Hallworth (2004, J. Fluid Mech. 508, 175-199), as quoted in
+  the literature (Staron and Hinch 2005; theses quoting them; the paper itself was not
+  read here): (r_inf - r0)/r0 = 1.24 a for a < 1.7 and 1.6 a^(1/2) above;
+- Lajeunesse, Mangeney-Castelnau and Vilotte (2004, Phys. Fluids 16, 2371-2381), as quoted:
+  a crossover near a = 0.74 to a runout growing as a^(1/2), and a final height that
+  saturates near 0.74 r0 (the prefactor of its a^(1/2) branch differs between the quotes
+  found, 1.35 or 2.0, so only the exponent is drawn, through our point nearest a = 2; the
+  height saturation is quoted from their 2005 paper by some sources);
+- granflow's plane-strain study (benchmarks/results/aspect_ratio: rectangles of half-width
+  l0 = 10 cm, the same material and relative resolution), when present.
+
+With --resolution, the columns of a = 1 and a = 4 are also run with 16 cells across
+(OUT/fine) and OUT/resolution.json gives the change of runout and final height from 8 to 16
+cells: whether the gap to the laws is discretisation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+from common.fits import power_fit
+
+from granflow.io.plots import save_figure
+from granflow.io.run_dir import atomic_write_text
+from granflow.sweep import Cluster, load_sweep, run_sweep
+
+STUDY = "aspect-ratio-cylinder"
+STUDY_BASE = "cylinder-rigid"
+STUDY_SET = {"geometry.width": 0.1, "time.t_end": 3.0, "time.output_times": []}
+RADIUS = 0.1            # r0 of the study (m)
+GRAVITY = 9.81
+PLANE = Path("benchmarks/results/aspect_ratio/aspect_ratio.json")
+LUBE_CROSSOVER = 1.7
+LAJEUNESSE_CROSSOVER, LAJEUNESSE_HEIGHT = 0.74, 0.74
+
+
+def lube_runout(a: np.ndarray) -> np.ndarray:
+    """(r_inf - r0)/r0 of Lube et al. (2004), as quoted."""
+    return np.where(a < LUBE_CROSSOVER, 1.24 * a, 1.6 * np.sqrt(a))
+
+
+def lajeunesse_height(a: np.ndarray) -> np.ndarray:
+    """h_inf/r0 as quoted for Lajeunesse et al.: a below a = 0.74 (the top stays), 0.74 above."""
+    return np.where(a < LAJEUNESSE_CROSSOVER, a, LAJEUNESSE_HEIGHT)
+
+
+def resolution(out: Path, heights: tuple[float, ...] = (0.1, 0.4), cells: int = 16) -> dict:
+    """Runout and axis height at ``cells`` across against the study's 8, for ``heights``."""
+    import granflow
+
+    with open(out / "sweep" / "sweep.csv", newline="") as fh:
+        coarse = {float(r["geometry.height"]): r for r in csv.DictReader(fh)}
+    rows = []
+    for h0 in heights:
+        folder = out / "fine" / f"height-{h0:g}"
+        if not (folder / "summary.json").is_file():
+            granflow.run(STUDY_BASE, overrides={**STUDY_SET, "mesh.cells_across": cells,
+                                                "geometry.height": h0}, out=folder, force=True)
+        fine = json.loads((folder / "summary.json").read_text())
+        c = coarse[h0]
+        rows.append({"a": h0 / RADIUS, "cells_across": [8, cells],
+                     "runout_m": [float(c["runout_m"]), fine["runout_m"]],
+                     "axis_height_m": [float(c["wall_height_m"]), fine["wall_height_m"]],
+                     "stop_time_s": [float(c["stop_time_s"]) if c["stop_time_s"] else None,
+                                     fine["stop_time_s"]],
+                     "runout_change": fine["runout_m"] / float(c["runout_m"]) - 1,
+                     "height_change": fine["wall_height_m"] / float(c["wall_height_m"]) - 1,
+                     "n_triangles": fine["n_triangles"], "wall_time_s": fine["wall_time_s"]})
+        print(json.dumps(rows[-1]), flush=True)
+    atomic_write_text(out / "resolution.json", json.dumps(rows, indent=2))
+    return {"rows": rows}
+
+
+def analyse(out: Path) -> dict:
+    with open(out / "sweep" / "sweep.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    done = [r for r in rows if r["status"] in ("completed", "stopped")]
+    h0 = np.array([float(r["geometry.height"]) for r in done])
+    order = np.argsort(h0)
+    h0 = h0[order]
+    done = [done[i] for i in order]
+    a = h0 / RADIUS
+    runout = (np.array([float(r["runout_m"]) for r in done]) - RADIUS) / RADIUS
+    height = np.array([float(r["wall_height_m"]) for r in done]) / RADIUS
+    stop = [float(r["stop_time_s"]) if r["stop_time_s"] else None for r in done]
+    scaled_stop = [t / math.sqrt(h / GRAVITY) if t else None for t, h in zip(stop, h0,
+                                                                             strict=True)]
+    fits = {"runout_all": power_fit(a, runout)}
+    if (a >= LUBE_CROSSOVER).sum() >= 2:
+        fits["runout_a>=1.7"] = power_fit(a[a >= LUBE_CROSSOVER], runout[a >= LUBE_CROSSOVER])
+    if (a >= 1).sum() >= 2:
+        fits["height_a>=1"] = power_fit(a[a >= 1], height[a >= 1])
+    result = {
+        "study": STUDY, "runs": len(rows), "failed": len(rows) - len(done),
+        "statuses": sorted({r["status"] for r in rows}),
+        "a": a.tolist(), "normalised_runout": runout.tolist(), "final_height": height.tolist(),
+        "stop_time_s": stop, "stop_time_over_sqrt_h0_g": scaled_stop,
+        "wall_time_s": [float(r["wall_time_s"]) for r in done],
+        "fits": {k: {"prefactor": v[0], "exponent": v[1]} for k, v in fits.items()},
+        "lube_2004_runout": lube_runout(a).tolist(),
+        "lajeunesse_height": lajeunesse_height(a).tolist(),
+    }
+    fmt = lambda x: "-" if x is None else f"{x:.3f}"  # noqa: E731
+    lines = [f"Study `{STUDY}`: {len(done)} of {len(rows)} runs finished.", "",
+             "| a = h0/r0 | (r_inf - r0)/r0 | Lube 2004 (quoted) | ratio | h_inf/r0 "
+             "| Lajeunesse (quoted) | stop (s) | stop / sqrt(h0/g) |",
+             "|---|---|---|---|---|---|---|---|"]
+    lines += [f"| {x:g} | {r:.3f} | {lu:.3f} | {r / lu:.2f} | {h:.3f} | {lh:.3f} | "
+              f"{fmt(t)} | {fmt(ts)} |"
+              for x, r, lu, h, lh, t, ts in zip(a, runout, lube_runout(a), height,
+                                                lajeunesse_height(a), stop, scaled_stop,
+                                                strict=True)]
+    lines.append("")
+    lines += [f"fit {name}: {k:.3f} a^{n:.3f}" for name, (k, n) in fits.items()]
+    atomic_write_text(out / "aspect_ratio.md", "\n".join(lines) + "\n")
+    atomic_write_text(out / "aspect_ratio.json", json.dumps(result, indent=2))
+    plot(out, a, runout, height, fits["runout_all"])
+    print("\n".join(lines))
+    return result
+
+
+def plot(out: Path, a: np.ndarray, runout: np.ndarray, height: np.ndarray,
+         fit: tuple[float, float]) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    ref = np.geomspace(min(a.min(), 0.5), max(a.max(), 6.0), 200)
+    ax1.loglog(a, runout, "ko", label="granflow, cylinders (r-z)")
+    ax1.loglog(ref, fit[0] * ref ** fit[1], "k-", lw=1, label=f"fit {fit[0]:.2f} a^{fit[1]:.2f}")
+    ax1.loglog(ref, lube_runout(ref), "-", color="tab:blue", lw=1.5,
+               label="Lube et al. 2004: 1.24 a, 1.6 a^(1/2) (as quoted)")
+    anchor = int(np.argmin(np.abs(a - 2.0)))
+    tall = ref >= LAJEUNESSE_CROSSOVER
+    ax1.loglog(ref[tall], runout[anchor] * np.sqrt(ref[tall] / a[anchor]), ":",
+               color="tab:red", label="a^(1/2) (Lajeunesse et al. 2004), through our a = 2")
+    ax2.loglog(a, height, "ko", label="granflow, cylinders (height on the axis)")
+    ax2.loglog(ref, lajeunesse_height(ref), "-", color="tab:red", lw=1.5,
+               label="a, then 0.74 (Lajeunesse et al., as quoted)")
+    if PLANE.is_file():
+        plane = json.loads(PLANE.read_text())
+        ax1.loglog(plane["a"], plane["normalised_runout"], "s", color="0.6", mfc="none",
+                   label="granflow, plane strain (rectangles, l0 = 10 cm)")
+        ax2.loglog(plane["a"], plane["final_height"], "s", color="0.6", mfc="none",
+                   label="granflow, plane strain (height at the wall)")
+    ax1.set(xlabel="a = h0 / r0", ylabel="(r_inf - r0) / r0", title="Runout")
+    ax2.set(xlabel="a = h0 / r0", ylabel="h_inf / r0", title="Final height")
+    for ax in (ax1, ax2):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Axisymmetric columns, r0 = 10 cm, the paper's Drucker-Prager material on a "
+                 "rigid bed (8 cells across the smaller side)", fontsize=9)
+    fig.tight_layout()
+    save_figure(fig, out / "aspect_ratio.png", dpi=120)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", type=Path,
+                        default=Path("benchmarks/results/aspect_ratio_cylinder"))
+    parser.add_argument("--analyse-only", action="store_true")
+    parser.add_argument("--resolution", action="store_true",
+                        help="also run a = 1 and 4 with 16 cells across (OUT/resolution.json)")
+    args = parser.parse_args()
+    if not args.analyse_only:
+        with Cluster(None, args.workers) as cluster:
+            result = run_sweep(load_sweep(STUDY), args.out / "sweep", cluster.client,
+                               progress=False)
+        timing = {"workers": args.workers, "wall_time_s": result.wall_time_s,
+                  "runs": len(result.rows), "skipped": result.skipped,
+                  "failed": len(result.failed)}
+        print(json.dumps(timing))
+        atomic_write_text(args.out / f"timing_{args.workers}_workers.json",
+                          json.dumps(timing, indent=2))
+    analyse(args.out)
+    if args.resolution:
+        resolution(args.out)
+
+
+if __name__ == "__main__":
+    main()
