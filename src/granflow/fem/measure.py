@@ -38,10 +38,6 @@ class Coordinates:
 
     axisymmetric: bool = False
 
-    @property
-    def name(self) -> str:
-        return "axisymmetric" if self.axisymmetric else "plane strain"
-
     def dx(self, integrand: ngs.CoefficientFunction, **kwargs: Any) -> ngs.SumOfIntegrals:
         """integrand dx over the section, times r in axisymmetry."""
         if self.axisymmetric:
@@ -90,7 +86,7 @@ class Coordinates:
         """div u, with + u_r / r in axisymmetry."""
         if not self.axisymmetric:
             return ngs.div(u)
-        return ngs.div(u) + u[0] / ngs.x
+        return ngs.div(u) + self.hoop_strain(u)
 
     def integrate(self, integrand: ngs.CoefficientFunction, mesh: ngs.Mesh,
                   order: int | None = None) -> float:
