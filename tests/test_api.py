@@ -119,3 +119,16 @@ def test_resume_refuses_a_finished_run(run: granflow.Run) -> None:
 
     with pytest.raises(RunDirError, match="already finished"):
         granflow.resume(run.root)
+
+
+def test_a_cylinder_runs_from_the_api_with_its_measures_in_r(tmp_path: Path) -> None:
+    cylinder = granflow.run("cylinder-rigid", overrides={
+        "mesh.size": 0.03, "time.t_end": 0.05, "time.output_times": [0.05]},
+        out=tmp_path / "cyl")
+    summary = cylinder.summary
+    assert summary.ok and summary.runout_m > 0.1
+    assert summary.extra["initial_volume_m3"] == pytest.approx(np.pi * 0.1**2 * 0.14)
+    assert summary.extra["axis_height_m"] == summary.extra["wall_height_m"] < 0.14
+    assert cylinder.diagnostics["volume"].iloc[0] == pytest.approx(np.pi * 0.1**2 * 0.14)
+    assert cylinder.plot.free_surfaces().get_xlabel() == "r (m)"
+    assert (cylinder.root / "plots" / "free_surface.png").is_file()
