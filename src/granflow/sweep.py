@@ -38,7 +38,8 @@ from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text
 
 FINISHED = ("completed", "stopped")
 FIGURES = ["t_final", "steps", "wall_time_s", "stop_time_s", "runout_m", "wall_height_m",
-           "initial_area_m2", "volume_relative_error", "n_triangles", "remeshes"]
+           "initial_area_m2", "volume_relative_error", "n_triangles", "remeshes",
+           "initial_volume_m3", "axis_height_m"]   # the last two: axisymmetric runs only
 
 
 class SweepError(ValueError):

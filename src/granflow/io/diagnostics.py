@@ -3,8 +3,9 @@
 Columns: t (s), dt (s), iterations, front_x (m), wall_height (m), volume (m^2 per metre of
 width), kinetic_energy (J/m), max_speed (m/s), flowing_fraction, linear_solves,
 local_error, tension_on, tension_x (m), area_correction, remesh_area_change (relative).
-The file is append-only and flushed after each row; a resumed run first cuts it back to the
-rows its checkpoint had seen, then appends.
+In an axisymmetric run front_x is the radius r (m), volume is the volume of revolution (m^3)
+and kinetic_energy the whole body's (J). The file is append-only and flushed after each
+row; a resumed run first cuts it back to the rows its checkpoint had seen, then appends.
 """
 
 from __future__ import annotations

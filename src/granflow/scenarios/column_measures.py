@@ -1,6 +1,8 @@
 """What the outputs read from a collapse: the front, the free surface, the static/flowing
 interface, velocity sections, animation frames, the diagnostics history and the summary.
-Read-only on the flow; its only state is the history of the rows it was given."""
+Read-only on the flow; its state is the history of the rows it was given and, for mu(I), the
+inertial numbers it accumulates (both checkpointed). For a cylinder of radius 10 cm the
+section at X_g - 10 cm is the axis itself."""
 
 from __future__ import annotations
 
