@@ -34,9 +34,10 @@ from pathlib import Path
 
 import numpy as np
 from common.fits import power_fit
+from common.studies import run_study
 
 from granflow.io.run_dir import atomic_file, atomic_write_text
-from granflow.sweep import Cluster, load_sweep, run_sweep
+from granflow.sweep import load_sweep
 
 WIDTH = 0.1   # l0 of the studies (m)
 LAWS = {   # name: (linear prefactor, linear up to, power prefactor, power from), exponent 2/3
@@ -155,15 +156,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out = args.out or Path("benchmarks/results") / args.study.replace("-", "_")
     if not args.analyse_only:
-        sweep = load_sweep(args.study)
-        with Cluster(None, args.workers) as cluster:
-            result = run_sweep(sweep, args.out / "sweep", cluster.client, progress=False)
-        timing = {"workers": args.workers, "wall_time_s": result.wall_time_s,
-                  "runs": len(result.rows), "skipped": result.skipped,
-                  "failed": len(result.failed)}
-        print(json.dumps(timing))
-        atomic_write_text(args.out / f"timing_{args.workers}_workers.json",
-                          json.dumps(timing, indent=2))
+        run_study(args.study, args.out, args.workers)
     analyse(args.out, args.study)
 
 

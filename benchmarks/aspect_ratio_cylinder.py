@@ -36,10 +36,10 @@ from pathlib import Path
 
 import numpy as np
 from common.fits import power_fit
+from common.studies import run_study
 
 from granflow.io.plots import save_figure
 from granflow.io.run_dir import atomic_write_text
-from granflow.sweep import Cluster, load_sweep, run_sweep
 
 STUDY = "aspect-ratio-cylinder"
 STUDY_BASE = "cylinder-rigid"
@@ -180,15 +180,7 @@ def main() -> None:
                         help="also run a = 1 and 4 with 16 cells across (OUT/resolution.json)")
     args = parser.parse_args()
     if not args.analyse_only:
-        with Cluster(None, args.workers) as cluster:
-            result = run_sweep(load_sweep(STUDY), args.out / "sweep", cluster.client,
-                               progress=False)
-        timing = {"workers": args.workers, "wall_time_s": result.wall_time_s,
-                  "runs": len(result.rows), "skipped": result.skipped,
-                  "failed": len(result.failed)}
-        print(json.dumps(timing))
-        atomic_write_text(args.out / f"timing_{args.workers}_workers.json",
-                          json.dumps(timing, indent=2))
+        run_study(STUDY, args.out, args.workers)
     analyse(args.out)
     if args.resolution:
         resolution(args.out)

@@ -10,7 +10,6 @@ u_z, u_reference) for the plug flow. x runs along the bed, z normal to it.
 from __future__ import annotations
 
 import csv
-import json
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -125,12 +124,6 @@ def read_profile(path: Path) -> Profile:
         return {}
     return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan for r in rows])
             for k in rows[0]}
-
-
-def units(root: Path) -> dict[str, str]:
-    """Column units of the run in ``root`` (those of this version for older runs)."""
-    path = Path(root, FOLDER, "units.json")
-    return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else dict(UNITS)
 
 
 def _final_time(path: Path) -> float | None:
