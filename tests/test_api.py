@@ -132,3 +132,32 @@ def test_a_cylinder_runs_from_the_api_with_its_measures_in_r(tmp_path: Path) -> 
     assert cylinder.diagnostics["volume"].iloc[0] == pytest.approx(np.pi * 0.1**2 * 0.14)
     assert cylinder.plot.free_surfaces().get_xlabel() == "r (m)"
     assert (cylinder.root / "plots" / "free_surface.png").is_file()
+
+
+def test_a_layer_of_its_own_material_reports_its_entrainment(tmp_path: Path) -> None:
+    """A column over a looser, weaker layer from the API: the entrainment columns of the
+    diagnostics, the erosion profiles, the markers with their origins, the figure."""
+    run = granflow.run("trapezoid-erodible", overrides={
+        "mesh.size": 0.05, "geometry.erodible_thickness": 0.01, "geometry.bed_length": 0.5,
+        "time.t_end": 0.04, "time.output_times": [0.02], "surface_tension.enabled": False,
+        "layer.friction_angle_deg": 20.0, "layer.density": 1400.0}, out=tmp_path / "layer")
+    assert run.summary.ok and run.summary.extra["two_materials"] is True
+    diagnostics = run.diagnostics
+    for column in ("layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
+                   "column_front_x", "erosion_depth_max", "layer_area_drift"):
+        assert column in diagnostics
+    assert diagnostics["column_front_x"].iloc[0] == pytest.approx(0.297 - 0.01 / np.tan(
+        np.radians(70)), abs=1e-3)                   # the front face at the layer's top
+    assert abs(run.summary.extra["layer_area_drift"]) < 0.01
+    erosion = run.erosion
+    assert sorted(set(erosion["t"])) == pytest.approx([0.02, 0.04])
+    assert erosion["depth"].between(0, 0.01).all()
+    markers = run.profile("layer_markers")
+    assert {"x", "z", "x0", "z0", "travel", "speed"} <= set(markers)
+    assert markers["z0"].max() < 0.01 and len(markers) > 500
+    assert run.profile("layer_line", 0.02)["z"].min() > 0
+    with pytest.raises(KeyError, match="no 'nothing' profile"):
+        run.profile("nothing")
+    assert (run.root / "plots" / "erosion.png").is_file()
+    fraction = run.fields(0.02)["layer_fraction"]        # the indicator, for ParaView
+    assert fraction.min() == 0.0 and fraction.max() == 1.0

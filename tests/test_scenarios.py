@@ -59,9 +59,11 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
     # the last accepted state as profiles/*_final.csv, whatever the output times
     assert summary["final_profiles_t"] == summary["t_final"]
     finals = sorted(p.name for p in (out / "profiles").glob("*_final.csv"))
+    layer = (["erosion_depth_final.csv", "layer_line_final.csv", "layer_markers_final.csv"]
+             if "erodible" in scenario else [])
     assert finals == (["velocity_final.csv"] if scenario in ("plug-flow", "incline-mu-i") else
-                      ["free_surface_final.csv", "interface_final.csv",
-                       "velocity_sections_final.csv"])
+                      sorted(["free_surface_final.csv", "interface_final.csv",
+                              "velocity_sections_final.csv", *layer]))
     if scenario == "trapezoid-rigid":   # t_end is the last output time: the same state
         for kind in ("free_surface", "velocity_sections", "interface"):
             assert ((out / "profiles" / f"{kind}_final.csv").read_text()

@@ -129,6 +129,40 @@ class Run:
         return table.drop_duplicates().sort_values(["kind", "t"], kind="stable",
                                                    ignore_index=True)
 
+    def profile(self, kind: str, t: float | None = None) -> pd.DataFrame:
+        """profiles/KIND at output time ``t`` (None: the last accepted state), e.g.
+        "free_surface" (x, z) or, over an erodible layer, "layer_markers" (x, z, x0, z0,
+        travel, speed: the layer material now and where it started), "layer_line" (x, z)
+        and "erosion_depth" (x0, depth); lengths in m, speed in m/s."""
+        import pandas as pd
+
+        found = (profiles.final_profile(self.root, kind) if t is None
+                 else profiles.profile_at(self.root, kind, t))
+        if found is None:
+            when = "the last state" if t is None else f"t = {t:g} s"
+            raise KeyError(f"no '{kind}' profile at {when} in '{self.root}' (the files are "
+                           f"{profiles.FOLDER}/KIND_tT.TTT.csv and KIND_final.csv)")
+        return pd.DataFrame(found)
+
+    @property
+    def erosion(self) -> pd.DataFrame:
+        """Over an erodible layer: the erosion depth along the bed at every output time and
+        the last state, tidy: columns t (s), x0 (m, original position), depth (m). The
+        entrainment history (eroded areas, erosion and column fronts) is in
+        ``diagnostics``."""
+        import pandas as pd
+
+        final_t = self.summary.extra.get("final_profiles_t")
+        frames = []
+        for found in profiles.list_profiles(self.root, "erosion_depth"):
+            t = found.t if found.t is not None else final_t
+            if t is not None:
+                data = pd.DataFrame(found.read())[["x0", "depth"]]
+                frames.append(data.assign(t=float(t))[["t", "x0", "depth"]])
+        if not frames:
+            return pd.DataFrame(columns=["t", "x0", "depth"])
+        return pd.concat(frames, ignore_index=True).drop_duplicates(ignore_index=True)
+
     @property
     def output_times(self) -> list[float]:
         """The times of the VTU snapshots in fields/ (fields.pvd)."""

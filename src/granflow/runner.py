@@ -133,7 +133,8 @@ class _Run:
         self.volume0 = (saved or {}).get("volume0") or state_measures(
             problem.mesh, problem.solver.velocity, problem.solver.density,
             coords=problem.solver.coordinates)["volume"]
-        self.diagnostics = DiagnosticsLog(run_dir, saved)
+        self.diagnostics = DiagnosticsLog(run_dir, saved, layer=(
+            config.geometry.kind == "column" and config.geometry.erodible_thickness > 0))
         self.fields = FieldSnapshots(run_dir, problem, saved)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)

@@ -44,6 +44,8 @@ ALTERNATIVE = {
     "mesh.failure_remesh_quality": 0.95, "time.error_tol": 0.5, "time.error_floor": 1.0,
     "geometry.bed_length": 0.5, "geometry.erodible_thickness": 0.03, "time.dt_max": 1e-4,
     "numerics.tol": 1e-2, "numerics.eps_friction": 1e-2, "numerics.al_r": 100.0,
+    "layer.rheology": '"mu-i"', "layer.density": 1400.0, "layer.viscosity": 0.5,
+    "layer.grain_diameter": 1e-8, "material.grain_diameter": 1e-8,   # any creep is "displaced"
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],

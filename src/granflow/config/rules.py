@@ -16,6 +16,8 @@ from granflow.config.messages import fmt_value
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
 
+LAYER_KEYS = ("density", "viscosity", "friction_angle_deg", "rheology", "mu_2_deg", "i0",
+              "grain_diameter", "grain_density")
 MAX_TRIANGLES = 100_000   # about 3.5 GB of peak memory (benchmarks/scaling.py: 2.9 GB at 80,000)
 MAX_STEPS = 10**7         # fewest steps a run may need: at ~10 ms a step, more than a day
 GB_PER_TRIANGLE = 33e-6   # peak memory growth per triangle (benchmarks/scaling.py)
@@ -90,6 +92,7 @@ def problems(c: Config) -> Iterator[str]:
         yield (f"mesh.size = {m.size!r} gives about {bulk + layer:.2g} triangles, about "
                f"{0.3 + GB_PER_TRIANGLE * (bulk + layer):.2g} GB of memory (at most "
                f"{MAX_TRIANGLES} triangles allowed); use mesh.size >= {smallest:.2g}")
+    yield from _layer_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
@@ -125,6 +128,25 @@ def _bulk_area(c: Config) -> float:
     return g.width * g.height - 0.5 * g.height * min(run, g.width)
 
 
+def _layer_problems(c: Config) -> Iterator[str]:
+    """A layer of its own material ([layer]): one the regularised law can carry, and a
+    consistent mu(I) if it has one."""
+    own = {k: v for k, v in c.layer.model_dump().items() if v is not None}
+    if not own or c.geometry.kind != "column" or c.geometry.erodible_thickness <= 0:
+        return
+    if c.numerics.method == "augmented-lagrangian" and c.material.model_copy(update=own) != (
+            c.material):
+        yield (f"numerics.method = 'augmented-lagrangian' needs one material, and [layer] sets "
+               f"{', '.join(f'layer.{k}' for k in own)}; use numerics.method = 'regularized'")
+    layer = c.material.model_copy(update=own)
+    if layer.rheology == "mu-i" and layer.mu_2_deg <= layer.friction_angle_deg:
+        yield (f"layer.mu_2_deg = {layer.mu_2_deg!r} must be greater than the layer's "
+               f"friction angle {layer.friction_angle_deg!r} (mu(I) rises from mu_s to mu_2)")
+    if layer.rheology == "mu-i" and layer.grain_density < layer.density:
+        yield (f"layer.grain_density = {layer.grain_density!r} must be at least the layer's "
+               f"density {layer.density!r} (their ratio is the packing fraction)")
+
+
 def _axisymmetric_problems(c: Config) -> Iterator[str]:
     """What an axisymmetric column cannot have: a slope (no longer symmetric), a channel's
     side walls, the plane-strain-only augmented Lagrangian and primal-dual correction."""
@@ -154,9 +176,18 @@ def inert_keys(c: Config) -> dict[str, str]:
     def add(keys: str, reason: str) -> None:
         out.update(dict.fromkeys(keys.split(), reason))
 
+    layer_keys = " ".join(f"layer.{k}" for k in LAYER_KEYS)
+    erodible = g.kind == "column" and g.erodible_thickness > 0
     if c.material.rheology == "drucker-prager":
-        add("material.mu_2_deg material.i0 material.grain_diameter material.grain_density",
+        add("material.mu_2_deg material.i0 material.grain_density"
+            + ("" if erodible else " material.grain_diameter"),
             "it is a parameter of mu(I), and material.rheology = 'drucker-prager'")
+    if not erodible:
+        add(layer_keys, "it describes the erodible layer's material, and there is none "
+            "(geometry.erodible_thickness = 0 or geometry.kind = 'periodic-layer')")
+    elif (c.layer.rheology or c.material.rheology) == "drucker-prager":
+        add("layer.mu_2_deg layer.i0 layer.grain_density", "it is a parameter of mu(I), and "
+            "the layer's law (layer.rheology, else material.rheology) is 'drucker-prager'")
     if g.kind == "periodic-layer":
         add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
             "geometry.bed_length geometry.axisymmetric",

@@ -96,6 +96,20 @@ class Material(_Section):
         return self.viscosity / self.density
 
 
+class Layer(_Section):
+    """The erodible layer's own material; every key left "none" is [material]'s (one
+    material everywhere, today's runs). Gravity is [material]'s."""
+
+    density: Annotated[float, Field(ge=1, le=1e5)] | None  # rho of the layer (packing)
+    viscosity: Annotated[float, Field(ge=1e-9, le=1e6)] | None  # eta (Pa s)
+    friction_angle_deg: Angle | None  # delta of the layer, mu_s = tan(delta)
+    rheology: Literal["drucker-prager", "mu-i"] | None
+    mu_2_deg: Angle | None  # mu(I) of the layer: mu_2 = tan(angle)
+    i0: Annotated[float, Field(gt=0, le=100)] | None
+    grain_diameter: Annotated[float, Field(gt=0, le=10)] | None  # m
+    grain_density: Annotated[float, Field(ge=1, le=1e5)] | None  # kg/m^3
+
+
 class Geometry(_Section):
     kind: Literal["periodic-layer", "column"]
     slope_deg: Angle  # bed inclination theta
@@ -199,6 +213,7 @@ class ConfigModel(_Section):
 
     scenario: str
     material: Material
+    layer: Layer
     geometry: Geometry
     boundary: Boundary
     initial: Initial

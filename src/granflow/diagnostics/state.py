@@ -19,7 +19,8 @@ def flowing_cells(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
     return speed > threshold, areas
 
 
-def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, density: float,
+def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
+                   density: float | ngs.CoefficientFunction,
                    cell_speed: tuple[np.ndarray, np.ndarray] | None = None,
                    coords: Coordinates = PLANE) -> dict[str, float]:
     """volume, kinetic_energy, max_speed (max cell-mean |u|), flowing_fraction (by area of
@@ -29,7 +30,10 @@ def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction, density: f
     ``cell_speed`` = (mean |u| per cell, cell areas) when the caller already has them.
     """
     speed, areas = cell_speed if cell_speed is not None else cell_means(mesh, ngs.Norm(velocity))
-    energy = 0.5 * density * coords.integrate(velocity * velocity, mesh, order=4)
+    if isinstance(density, ngs.CoefficientFunction):   # a layer of its own material
+        energy = 0.5 * coords.integrate(density * velocity * velocity, mesh, order=4)
+    else:
+        energy = 0.5 * density * coords.integrate(velocity * velocity, mesh, order=4)
     flowing = speed > FLOWING_SPEED
     return {
         "volume": mesh_volume(mesh, coords.axisymmetric),

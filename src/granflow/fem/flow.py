@@ -28,9 +28,21 @@ from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
+from granflow.physics.regions import TwoMaterials
 from granflow.simulation.outcomes import IterationReport
 
 Carry = Callable[[ngs.GridFunction, ngs.GridFunction], None]   # (old field, new field)
+
+
+Density = float | ngs.CoefficientFunction   # kg/m^3: one material, or blended (two)
+
+
+def drucker_prager(law: Rheology) -> bool:
+    """The Drucker-Prager law (2.13), alone or as both materials of a column over a layer:
+    what the primal-dual correction is built for."""
+    if isinstance(law, TwoMaterials):
+        return isinstance(law.column, DruckerPrager) and isinstance(law.layer, DruckerPrager)
+    return isinstance(law, DruckerPrager)
 
 
 class FlowSolver:
@@ -40,7 +52,7 @@ class FlowSolver:
     previous velocity is carried by the nodes (u^n o A^{-1}) without interpolation.
     """
 
-    def __init__(self, mesh: ngs.Mesh, *, rheology: Rheology, density: float,
+    def __init__(self, mesh: ngs.Mesh, *, rheology: Rheology, density: Density,
                  body_force: tuple[float, float], periodic: bool = False,
                  dirichlet: str = "", walls: Sequence[FrictionWall] = (),
                  penalty: float = 0.0, linearization: str = "picard",
@@ -89,7 +101,7 @@ class FlowSolver:
         # the correction is built for the plane Drucker-Prager law; with another law (mu(I))
         # or in axisymmetry "primal-dual" is the plain iteration (3.2) (docs/parameters.md)
         if (linearization == "primal-dual" and augmentation is None
-                and isinstance(rheology, DruckerPrager) and not coordinates.axisymmetric):
+                and drucker_prager(rheology) and not coordinates.axisymmetric):
             dual = DualVariable(mesh, rheology, self.solution)
             correction = dual.forms(self.space)
         picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
@@ -257,6 +269,8 @@ class FlowSolver:
 
     def kinetic_energy(self) -> float:
         u = self.velocity
+        if isinstance(self.density, ngs.CoefficientFunction):    # two materials
+            return 0.5 * self.coordinates.integrate(self.density * u * u, self.mesh)
         return 0.5 * self.density * self.coordinates.integrate(u * u, self.mesh)
 
     def strain_rate_norm(self) -> ngs.CoefficientFunction:

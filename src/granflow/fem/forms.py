@@ -93,7 +93,7 @@ class _LhsOnly:
 class Inertia:
     """rho (u - u^n o A^-1) / dt . v (3.2a); ``previous`` is carried by the moving nodes."""
 
-    density: float
+    density: float | ngs.CoefficientFunction
     dt: ngs.Parameter
     previous: ngs.CoefficientFunction
     step_constant = True
@@ -110,7 +110,7 @@ class BackwardDifferenceInertia:
     """rho (a0 u - h) / dt . v: the inertia of a multistep scheme (``fem/time_scheme.py``),
     h = a1 u^n - a2 u^{n-1} its known history carried by the moving nodes."""
 
-    density: float
+    density: float | ngs.CoefficientFunction
     dt: ngs.Parameter
     a0: ngs.Parameter
     history: ngs.CoefficientFunction
@@ -127,7 +127,7 @@ class BackwardDifferenceInertia:
 class Convection(_LhsOnly):
     """rho [(u_lin - w) . grad] u . v: ALE convection with the mesh velocity w (3.2a)."""
 
-    density: float
+    density: float | ngs.CoefficientFunction
     mesh_velocity: ngs.CoefficientFunction
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
@@ -190,7 +190,7 @@ class Incompressibility(_LhsOnly):
 class BodyForce:
     """rho f . v on the right-hand side: gravity in the bed frame (2.1a)."""
 
-    density: float
+    density: float | ngs.CoefficientFunction
     force: tuple[float, float]
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
@@ -290,7 +290,7 @@ class SurfaceTraction:
         return s.coords.ds(self.gamma * (s.v * n), definedon=mesh.Boundaries(self.region))
 
 
-def momentum_terms(*, density: float, inertia: Term,
+def momentum_terms(*, density: float | ngs.CoefficientFunction, inertia: Term,
                    mesh_velocity: ngs.CoefficientFunction, rheology: Rheology,
                    body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
                    penalty: float = 0.0,

@@ -37,6 +37,7 @@ from ngsolve.comp import IntegrationRuleSpace
 
 from granflow.fem.forms import strain_rate
 from granflow.physics import DruckerPrager
+from granflow.physics.regions import TwoMaterials, blend
 
 COMPONENTS = ((0, 0), (0, 1), (1, 1))   # a symmetric 2x2 tensor stored as xx, xy, yy
 WEIGHTS = np.array([1.0, 2.0, 1.0])      # Frobenius A : B of two tensors so stored
@@ -70,7 +71,7 @@ class DualVariable:
     side gamma : Dv.
     """
 
-    def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager,
+    def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager | TwoMaterials,
                  iterate: ngs.GridFunction) -> None:
         self.space = IntegrationRuleSpace(mesh, order=1)   # the 3 edge midpoints
         self.dx = ngs.dx(intrules=self.space.GetIntegrationRules())
@@ -141,12 +142,23 @@ class DualVariable:
     def _coefficients(self) -> None:
         """alpha, beta and gamma at the iterate (u_k, p_k) and lambda_k."""
         r_sq = (self._du_k**2) @ WEIGHTS + self.rheology.eps**2
-        alpha = -(self.rheology.yield_stress(self._p_k) / r_sq)[:, None] * self._du_k
+        kappa_1 = self._yield_slope()                 # sqrt(2) mu_s: kappa = kappa_1 [p]_+
+        alpha = -(kappa_1 * np.maximum(self._p_k, 0.0) / r_sq)[:, None] * self._du_k
         self.alpha.set(alpha)
         lam = self.lam.get()
-        slope = np.where(self._p_k > 0, self.rheology.yield_stress(1.0), 0.0)  # kappa'(p_k)
+        slope = np.where(self._p_k > 0, kappa_1, 0.0)  # kappa'(p_k)
         self.beta.set(slope[:, None] * lam)
         self.gamma.set(((alpha * self._du_k) @ WEIGHTS + slope * self._p_k)[:, None] * lam)
+
+    def _yield_slope(self) -> float | np.ndarray:
+        """kappa / [p]_+ = sqrt(2) mu_s (2.4): one number, or per point for a column over a
+        layer of another Drucker-Prager material (blended with the triangles' fractions)."""
+        law = self.rheology
+        if isinstance(law, TwoMaterials):
+            per_triangle = law.fraction.vec.FV().NumPy()
+            points = np.repeat(per_triangle, len(self._p_k) // len(per_triangle))
+            return blend(law.column.yield_stress(1.0), law.layer.yield_stress(1.0), points)
+        return law.yield_stress(1.0)
 
     def _at_points(self, vec: ngs.BaseVector) -> tuple[np.ndarray, np.ndarray]:
         """(xx, xy, yy) of Du and p at the quadrature points, from a (u, p) vector."""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ngsolve as ngs
 import numpy as np
+from scipy.spatial import cKDTree
 
 
 def triangles(mesh: ngs.Mesh) -> np.ndarray:
@@ -27,6 +28,24 @@ def vertex_samples(mesh: ngs.Mesh, cf: ngs.CoefficientFunction) -> np.ndarray:
     if dim > 1:
         return np.column_stack([c.vec.FV().NumPy()[:nv] for c in field.components])
     return field.vec.FV().NumPy()[:nv].copy()
+
+
+def values_at(mesh: ngs.Mesh, cf: ngs.CoefficientFunction, points: np.ndarray) -> np.ndarray:
+    """``cf`` at the points (n, 2), shape (n, cf.dim). A point a hair outside the moved mesh
+    (a tracked material point on the free surface, which the ALE follows to first order)
+    takes the value at the nearest vertex."""
+    mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
+    found = mesh(points[:, 0], points[:, 1])
+    inside = found["nr"] >= 0
+    out = np.empty((len(points), cf.dim))
+    if inside.any():
+        out[inside] = np.asarray(cf(found[inside])).reshape(-1, cf.dim)
+    if not inside.all():
+        xy = mesh.ngmesh.Coordinates()
+        nearest = cKDTree(xy).query(points[~inside])[1]
+        at_vertices = np.column_stack([vertex_samples(mesh, cf[i]) for i in range(cf.dim)])
+        out[~inside] = at_vertices[nearest]
+    return out
 
 
 def point_values(mesh: ngs.Mesh, cf: ngs.CoefficientFunction, x: float,

@@ -75,7 +75,7 @@ class TimeScheme:
     order: ClassVar[int]
     depth: ClassVar[int]      # history states kept (besides the newest)
 
-    def __init__(self, space: ngs.FESpace, density: float) -> None:
+    def __init__(self, space: ngs.FESpace, density: float | ngs.CoefficientFunction) -> None:
         self.density = density
         self.dt = ngs.Parameter(1.0)
         self.previous = ngs.GridFunction(space)         # (u^n, p^n)
@@ -171,7 +171,7 @@ class BDF2(TimeScheme):
     order = 2
     depth = 2
 
-    def __init__(self, space: ngs.FESpace, density: float) -> None:
+    def __init__(self, space: ngs.FESpace, density: float | ngs.CoefficientFunction) -> None:
         super().__init__(space, density)
         self.oldest = ngs.GridFunction(space)       # (u^{n-2}, p^{n-2})
         self.dt_older = 0.0                         # t^{n-1} - t^{n-2}; 0 = none
@@ -247,7 +247,8 @@ class BDF2(TimeScheme):
             self.dt_older = other.dt_older
 
 
-def time_scheme(name: str, space: ngs.FESpace, density: float) -> TimeScheme:
+def time_scheme(name: str, space: ngs.FESpace,
+                density: float | ngs.CoefficientFunction) -> TimeScheme:
     """The scheme of ``time.scheme``."""
     if name == "bdf2":
         return BDF2(space, density)

@@ -19,6 +19,7 @@ class Polygon:
 
     points: tuple[tuple[float, float], ...]
     labels: tuple[str, ...]
+    interior: tuple[tuple[int, int], ...] = ()   # lines between two points, inside
 
     @property
     def area(self) -> float:
@@ -37,7 +38,8 @@ class Polygon:
 
 
 def column(shape: str, width: float, height: float, front_angle_deg: float = 90.0,
-           erodible_thickness: float = 0.0, bed_length: float = 1.0) -> Polygon:
+           erodible_thickness: float = 0.0, bed_length: float = 1.0,
+           interface: bool = False) -> Polygon:
     """Trapezoid (front face at ``front_angle_deg`` from the bed, base ``width``) or rectangle.
 
     With ``erodible_thickness`` > 0 a layer of that thickness covers the bed up to
@@ -46,7 +48,9 @@ def column(shape: str, width: float, height: float, front_angle_deg: float = 90.
     convention as over a rigid bed), so ``height`` includes the layer. The layer's far end
     is a frictionless wall (label ``end``): a layer at rest under gravity carries no shear
     on vertical planes, so this is the exact boundary of an undisturbed layer that goes on
-    beyond ``bed_length``; a free end would slump.
+    beyond ``bed_length``; a free end would slump. With ``interface`` the layer's top under
+    the column (from the wall to the front face) is an interior line, so that a mesh of a
+    column and a layer of two materials starts with no triangle holding both.
     """
     angle = 90.0 if shape == "rectangle" else front_angle_deg
     top = width - height / math.tan(math.radians(angle)) if angle < 90 else width
@@ -56,6 +60,9 @@ def column(shape: str, width: float, height: float, front_angle_deg: float = 90.
         points = ((0.0, 0.0), (bed_length, 0.0), (bed_length, he), (foot, he),
                   (top, height), (0.0, height))
         labels = (BED, END, SURFACE, SURFACE, SURFACE, WALL)
+        if interface:
+            return Polygon(points=(*points, (0.0, he)), labels=(*labels, WALL),
+                           interior=((6, 3),))
     else:
         points = ((0.0, 0.0), (width, 0.0), (top, height), (0.0, height))
         labels = (BED, SURFACE, SURFACE, WALL)

@@ -14,6 +14,7 @@ from ngsolve.meshes import MakeStructured2DMesh
 
 BED, WALL, SURFACE, END = "bed", "wall", "surface", "end"
 LABELS = (BED, WALL, SURFACE, END)
+INTERIOR = "interior"   # a line inside the domain the mesh follows (not a boundary)
 
 
 def periodic_layer_mesh(length: float, height: float, size: float,
@@ -43,13 +44,16 @@ def signed_areas(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray
 
 
 def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
-                 size: float, edge_sizes: Sequence[float] | None = None) -> ngs.Mesh:
+                 size: float, edge_sizes: Sequence[float] | None = None,
+                 interior: Sequence[tuple[int, int, float]] = ()) -> ngs.Mesh:
     """Netgen triangulation of a labelled polygon, without corner triangles.
 
     ``edge_sizes[i]`` (default ``size``) is the target length on edge i, from which Netgen
-    grades the interior (a thin erodible layer is resolved this way). A triangle with two
-    boundary edges flattens when the overturning front lands on the bed; such corner
-    triangles are removed by flipping their interior edge.
+    grades the interior (a thin erodible layer is resolved this way). ``interior`` lists
+    lines (point i, point j, edge length) the triangles must not cross (the initial
+    interface of two materials). A triangle with two boundary edges flattens when the
+    overturning front lands on the bed; such corner triangles are removed by flipping
+    their interior edge.
     """
     geo = SplineGeometry()
     ids = [geo.AppendPoint(x, y) for x, y in points]
@@ -57,12 +61,17 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
         local = {} if edge_sizes is None else {"maxh": min(size, edge_sizes[i])}
         geo.Append(["line", ids[i], ids[(i + 1) % len(ids)]], bc=label,
                    leftdomain=1, rightdomain=0, **local)
+    for i, j, h in interior:
+        geo.Append(["line", ids[i], ids[j]], bc=INTERIOR, leftdomain=1, rightdomain=1,
+                   maxh=min(size, h))
     ngmesh = geo.GenerateMesh(maxh=size)
     xy = np.array([[p[0], p[1]] for p in ngmesh.Points()])
     tri = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
     seg = ngmesh.Elements1D().NumPy()
-    segments = seg["nodes"][:, :2].astype(np.int64) - 1
     seg_labels = [ngmesh.GetBCName(int(i) - 1) for i in seg["index"]]
+    boundary = np.array([lab != INTERIOR for lab in seg_labels], dtype=bool)
+    segments = seg["nodes"][boundary, :2].astype(np.int64) - 1
+    seg_labels = [lab for lab in seg_labels if lab != INTERIOR]
     tri = flip_corner_triangles(xy, tri)
     xy, tri, segments, seg_labels = collapse_flat_corners(xy, tri, segments, seg_labels)
     return build_mesh(xy, tri, segments, seg_labels)

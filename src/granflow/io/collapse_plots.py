@@ -15,6 +15,7 @@ from PIL import Image  # noqa: E402
 from granflow.geometry.domains import column  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
+from granflow.io.erosion_plots import plot_erosion  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
@@ -125,6 +126,9 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
         energy = "J" if config.geometry.axisymmetric else "J/m"   # whole body, or per metre
         a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
         save_figure(fig, run_dir.path("plots/front_and_energy.png"))
+
+    if config.geometry.erodible_thickness > 0:
+        plot_erosion(run_dir, config)
 
     frames = read_frames(run_dir.root)
     if frames:

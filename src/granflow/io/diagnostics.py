@@ -2,7 +2,9 @@
 
 Columns: t (s), dt (s), iterations, front_x (m), wall_height (m), volume (m^2 per metre of
 width), kinetic_energy (J/m), max_speed (m/s), flowing_fraction, linear_solves,
-local_error, tension_on, tension_x (m), area_correction, remesh_area_change (relative).
+local_error, tension_on, tension_x (m), area_correction, remesh_area_change (relative);
+over an erodible layer also the entrainment columns ``LAYER_COLUMNS`` (areas in m^2 per
+metre, positions and depth in m, the area drift relative; ``scenarios/column_layer.py``).
 In an axisymmetric run front_x is the radius r (m), volume is the volume of revolution (m^3)
 and kinetic_energy the whole body's (J). The file is append-only and flushed after each
 row; a resumed run first cuts it back to the rows its checkpoint had seen, then appends.
@@ -25,6 +27,8 @@ COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
            "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
            "local_error", "tension_on", "tension_x", "area_correction",
            "remesh_area_change"]
+LAYER_COLUMNS = ["layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
+                 "column_front_x", "erosion_depth_max", "layer_area_drift"]
 
 
 class DiagnosticsLog:
@@ -32,16 +36,18 @@ class DiagnosticsLog:
 
     name = "diagnostics"
 
-    def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None) -> None:
+    def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None,
+                 layer: bool = False) -> None:
         self.rows = int(resume.get("diagnostic_rows", 0)) if resume else 0
         path = run_dir.path(FILE)
         if resume is not None:
             _truncate_rows(path, self.rows)
-        self._log: CsvLog = run_dir.csv_log(FILE, COLUMNS, resume=resume is not None)
+        self.columns = COLUMNS + LAYER_COLUMNS if layer else COLUMNS
+        self._log: CsvLog = run_dir.csv_log(FILE, self.columns, resume=resume is not None)
 
     def write(self, row: Mapping[str, float]) -> None:
         """One row; columns the row lacks are NaN (a plug flow has no front)."""
-        self._log.write([row.get(c, math.nan) for c in COLUMNS])
+        self._log.write([row.get(c, math.nan) for c in self.columns])
         self.rows += 1
 
     def save_state(self) -> dict[str, Any]:

@@ -3,7 +3,8 @@ times, every ``output.vtk_every`` steps and at the last accepted state); the fil
 its index and its reader are ``io/vtk.py``.
 
 Point data: velocity (m/s), pressure (Pa). Cell data: speed (m/s), strain_rate_norm (1/s),
-effective_viscosity (Pa s) and the flowing flag (speed above 1 mm/s).
+effective_viscosity (Pa s) and the flowing flag (speed above 1 mm/s); with a layer of its
+own material also layer_fraction (the share of layer material in each triangle).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import FOLDER, VtkSeries
+from granflow.physics.regions import TwoMaterials
 
 
 class FlowState(Protocol):
@@ -42,6 +44,8 @@ class FieldSnapshots:
         """Velocity, pressure, |Du|, effective viscosity and the flowing flag at time t."""
         solver, mesh = self.state.solver, self.state.mesh
         speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
+        materials = ({"layer_fraction": solver.rheology.fraction.vec.FV().NumPy().copy()}
+                     if isinstance(solver.rheology, TwoMaterials) else {})
         self.series.write(
             t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),
             point_data={"velocity": vertex_samples(mesh, solver.velocity),
@@ -49,7 +53,7 @@ class FieldSnapshots:
             cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
                        "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
                        "effective_viscosity":
-                           cell_means(mesh, solver.effective_viscosity())[0]})
+                           cell_means(mesh, solver.effective_viscosity())[0], **materials})
 
     def write_last(self, t: float) -> None:
         """A snapshot at ``t`` unless the last one already is at that time."""

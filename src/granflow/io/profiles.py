@@ -3,8 +3,11 @@
 LABEL is ``tT.TTT`` for an output time T (s) or ``final`` for the last accepted state. Every
 row carries its time in a last column ``t`` (s), and ``profiles/units.json`` gives each
 column's unit, so a file is readable on its own. Kinds: ``free_surface`` and ``interface``
-(x, z), ``velocity_sections`` (section_x, z, u_x, u_z) for a collapse; ``velocity`` (z, u_x,
-u_z, u_reference) for the plug flow. x runs along the bed, z normal to it.
+(x, z), ``velocity_sections`` (section_x, z, u_x, u_z) for a collapse; over an erodible
+layer also ``layer_line`` (x, z: the tracked top of the layer material), ``layer_markers``
+(x, z now; x0, z0 at t = 0; travel, the largest distance from the origin so far; speed) and
+``erosion_depth`` (x0, depth); ``velocity`` (z, u_x, u_z, u_reference) for the plug flow.
+x runs along the bed, z normal to it.
 """
 
 from __future__ import annotations
@@ -23,7 +26,8 @@ from granflow.io.run_dir import RunDir
 FOLDER = "profiles"
 FINAL = "final"
 UNITS = {"t": "s", "x": "m", "z": "m", "section_x": "m", "u_x": "m/s", "u_z": "m/s",
-         "u_reference": "m/s"}
+         "u_reference": "m/s", "x0": "m", "z0": "m", "travel": "m", "speed": "m/s",
+         "depth": "m"}
 _NAME = re.compile(r"(?P<kind>[a-z_]+?)_(?P<label>t\d+(?:\.\d+)?|final)\.csv")
 
 Profile = dict[str, np.ndarray]   # column name -> values

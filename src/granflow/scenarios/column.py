@@ -25,8 +25,10 @@ from granflow.scenarios.column_discretisation import (
     discretise,
     layer_edge_sizes,
 )
+from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures, Table
 from granflow.scenarios.column_remesher import ColumnRemesher
+from granflow.scenarios.materials import layer_material
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
@@ -42,6 +44,7 @@ class ColumnCollapse:
     simulation: Simulation
     remesher: ColumnRemesher
     measures: ColumnMeasures
+    layer: LayerTracking | None = None
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -84,17 +87,23 @@ class ColumnCollapse:
         remeshes' record (animation frames are files, ``frames/``)."""
         return {"mesh": self.mesh, "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), **self.measures.save_state(),
-                **self.remesher.save_state()}
+                **self.remesher.save_state(),
+                **(self.layer.save_state() if self.layer is not None else {})}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
-        restored = discretise(self.config, state["mesh"])
+        if self.layer is not None:
+            self.layer.restore_material(state)
+        restored = discretise(self.config, state["mesh"],
+                              self.layer.material if self.layer is not None else None)
         restored.solver.restore_history(state["fields"])
         restored.mover.restore_state(state["mover"])
         self.current.replace(restored)
         self.simulation.replace(restored.solver, restored.mover)
         self.measures.restore_state(state)
         self.remesher.restore_state(state)
+        if self.layer is not None:
+            self.layer.sample()
 
 
 def _inertial_numbers(law: object) -> InertialNumbers | None:
@@ -107,29 +116,49 @@ def _inertial_numbers(law: object) -> InertialNumbers | None:
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     geo, mat = config.geometry, config.material
+    two_materials = layer_material(config) is not None
     polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
-                     geo.erodible_thickness, geo.bed_length)
+                     geo.erodible_thickness, geo.bed_length, interface=two_materials)
+    fine = geo.erodible_thickness / config.mesh.layer_cells
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
-                        boundary_edge_sizes(polygon.points, layer_edge_sizes(config)))
+                        boundary_edge_sizes(polygon.points, layer_edge_sizes(config)),
+                        interior=[(i, j, fine) for i, j in polygon.interior])
     current = discretise(config, mesh)
+    layer = LayerTracking.start(config, current) if geo.erodible_thickness > 0 else None
+    if layer is not None:
+        current.set_fraction(layer.material)
     force = gravity_vector(mat.gravity, geo.slope_deg)
     xy = mesh.ngmesh.Coordinates()
     heights = np.array([polygon.surface_height(x) for x in xy[:, 0]])
     pressure = ngs.GridFunction(ngs.H1(mesh, order=1))
-    pressure.vec.FV().NumPy()[:] = -mat.density * force[1] * np.maximum(heights - xy[:, 1], 0)
+    pressure.vec.FV().NumPy()[:] = _hydrostatic(config, force[1], heights, xy[:, 1])
     current.solver.set_state(ngs.CF((0.0, 0.0)), pressure)          # at rest, hydrostatic
     simulation = Simulation(solver=current.solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations,
                             mesh_motion=current.mover,
                             velocity_floor=config.numerics.velocity_floor)
-    remesher = ColumnRemesher(config, current, simulation)
+    remesher = ColumnRemesher(config, current, simulation, layer=layer)
     measures = ColumnMeasures(config, current, remesher, simulation,
-                              inertial=_inertial_numbers(current.solver.rheology))
+                              inertial=_inertial_numbers(current.solver.rheology), layer=layer)
     simulation.remesher = remesher
+    if layer is not None:
+        simulation.observers = [layer]     # first: the outputs read the moved layer
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
     return ColumnCollapse(config=config, polygon=polygon, current=current,
-                          simulation=simulation, remesher=remesher, measures=measures)
+                          simulation=simulation, remesher=remesher, measures=measures,
+                          layer=layer)
+
+
+def _hydrostatic(config: Config, g_z: float, heights: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The pressure at rest: -rho g_z (depth below the surface); with a layer of its own
+    density, the column's weight down to the layer's top and the layer's below it."""
+    depth = np.maximum(heights - z, 0)
+    layer = layer_material(config)
+    if layer is None:
+        return -config.material.density * g_z * depth
+    in_layer = np.clip(config.geometry.erodible_thickness - z, 0.0, depth)
+    return -g_z * (config.material.density * (depth - in_layer) + layer.density * in_layer)

@@ -15,13 +15,22 @@ from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import EdgeSize
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.config import Config
-from granflow.fem.flow import FlowSolver
+from granflow.fem.flow import Density, FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
+from granflow.fem.sampling import triangles
+from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, SURFACE, WALL
-from granflow.physics import CoulombFriction, gravity_vector
-from granflow.scenarios.materials import augmentation, build_rheology, build_side_walls
+from granflow.physics import CoulombFriction, Rheology, gravity_vector
+from granflow.physics.regions import TwoMaterials, blend
+from granflow.scenarios.materials import (
+    augmentation,
+    build_rheology,
+    build_side_walls,
+    layer_material,
+    material_law,
+)
 
 
 @dataclass
@@ -31,10 +40,18 @@ class ColumnDiscretisation:
     mesh: ngs.Mesh
     solver: FlowSolver
     mover: ColumnMover
+    fraction: ngs.GridFunction | None = None   # two materials: layer share per triangle
 
     def replace(self, other: ColumnDiscretisation) -> None:
-        """Take ``other``'s mesh, solver and mover (after a remesh or a restore)."""
+        """Take ``other``'s mesh, solver, mover and indicator (after a remesh or a restore)."""
         self.mesh, self.solver, self.mover = other.mesh, other.solver, other.mover
+        self.fraction = other.fraction
+
+    def set_fraction(self, layer: LayerMaterial | None) -> None:
+        """The material indicator of the current mesh from the tracked layer region."""
+        if self.fraction is not None and layer is not None:
+            self.fraction.vec.FV().NumPy()[:] = layer.fractions(
+                self.mesh.ngmesh.Coordinates(), triangles(self.mesh))
 
 
 def layer_edge_sizes(config: Config) -> EdgeSize | None:
@@ -60,9 +77,12 @@ def friction_walls(config: Config) -> list[str]:
     return [*walls, END] if config.geometry.erodible_thickness > 0 else walls
 
 
-def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
+def discretise(config: Config, mesh: ngs.Mesh,
+               layer: LayerMaterial | None = None) -> ColumnDiscretisation:
     """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``;
-    in axisymmetry the left boundary is the axis: u_r = 0 there, no friction, no penalty."""
+    in axisymmetry the left boundary is the axis: u_r = 0 there, no friction, no penalty.
+    A layer of its own material (``[layer]``) gets the blended law and density, with the
+    indicator filled from the tracked region ``layer``."""
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
     load = bnd.normal_load
     walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load)]
@@ -72,7 +92,8 @@ def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
     st = config.surface_tension
-    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
+    rheology, density, fraction = _materials(config, mesh)
+    solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
                         linear_solver=direct_solver(num.linear_solver),
@@ -95,4 +116,19 @@ def discretise(config: Config, mesh: ngs.Mesh) -> ColumnDiscretisation:
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction, tension=tension,
                         measure=polygon_measure(geo.axisymmetric))
-    return ColumnDiscretisation(mesh, solver, mover)
+    out = ColumnDiscretisation(mesh, solver, mover, fraction)
+    out.set_fraction(layer)
+    return out
+
+
+def _materials(config: Config, mesh: ngs.Mesh) -> tuple[Rheology, Density,
+                                                         ngs.GridFunction | None]:
+    """One material: [material]'s law and density. A layer of its own: both blended with
+    the indicator, a piecewise constant share of layer material per triangle."""
+    layer = layer_material(config)
+    if layer is None:
+        return build_rheology(config), config.material.density, None
+    fraction = ngs.GridFunction(ngs.L2(mesh, order=0))
+    law = TwoMaterials(build_rheology(config), material_law(layer, config.numerics.eps),
+                       fraction)
+    return law, blend(config.material.density, layer.density, fraction), fraction

@@ -25,6 +25,7 @@ from granflow.fem.sampling import cell_means, point_values, triangles
 from granflow.geometry.mesh import signed_areas
 from granflow.physics import MuI
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
+from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.simulation.simulation import RunResult, Simulation
 
@@ -46,6 +47,7 @@ class ColumnMeasures:
     remesher: ColumnRemesher
     simulation: Simulation
     inertial: InertialNumbers | None = None     # mu(I) runs: I in the flowing cells
+    layer: LayerTracking | None = None          # an erodible layer's tracked material
     history: dict[str, list[float]] = field(default_factory=_history)
 
     def front(self) -> float:
@@ -69,6 +71,8 @@ class ColumnMeasures:
                "wall_height": front_diag.wall_height(xy)}
         if self.inertial is not None:
             self._add_inertial_numbers(cell_speed > FLOWING_SPEED)
+        if self.layer is not None:
+            out.update(self.layer.measures())
         out["area_correction"] = mover.step_correction
         out["remesh_area_change"] = self.remesher.unrecorded_change
         tension = mover.tension
@@ -135,10 +139,11 @@ class ColumnMeasures:
                 for zi, ui in zip(z, u, strict=True)]
         stations = np.linspace(
             0.0, front_diag.front_position(self.current.mesh.ngmesh.Coordinates()), 200)
-        return {"free_surface": (["x", "z"], self.surface()),
-                "velocity_sections": (["section_x", "z", "u_x", "u_z"], np.array(rows)),
-                "interface": (["x", "z"],
-                              np.column_stack([stations, self.interface(stations)]))}
+        out = {"free_surface": (["x", "z"], self.surface()),
+               "velocity_sections": (["section_x", "z", "u_x", "u_z"], np.array(rows)),
+               "interface": (["x", "z"],
+                             np.column_stack([stations, self.interface(stations)]))}
+        return {**out, **(self.layer.profiles() if self.layer is not None else {})}
 
     def frame(self, sim: Simulation) -> dict[str, Any]:
         """A frame of the animation: mesh, cell speeds and the interface."""
@@ -182,6 +187,7 @@ class ColumnMeasures:
                                       if mover.tension is not None else None),
             "inertial_number_flowing": (self.inertial.summary()
                                         if self.inertial is not None else None),
+            **(self.layer.summary() if self.layer is not None else {}),
         }
 
     def save_state(self) -> dict[str, Any]:

@@ -17,6 +17,7 @@ from granflow.scenarios.column_discretisation import (
     friction_walls,
     layer_edge_sizes,
 )
+from granflow.scenarios.column_layer import LayerTracking
 from granflow.simulation.simulation import Simulation
 
 
@@ -32,6 +33,7 @@ class ColumnRemesher:
     changes: list[float] = field(default_factory=list)    # relative area, per remesh
     restored: list[float] = field(default_factory=list)   # area its simplification lost
     unrecorded_change: float = 0.0   # area change of the remeshes since the last diagnostics row
+    layer: LayerTracking | None = None   # an erodible layer's tracked material
 
     def needs_remesh(self) -> bool:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
@@ -50,7 +52,8 @@ class ColumnRemesher:
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
         remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
                           old.mover.measure)
-        new = discretise(self.config, remeshed.mesh)
+        new = discretise(self.config, remeshed.mesh,
+                         self.layer.material if self.layer is not None else None)
         change = (new.mover.area() - old.mover.area()) / old.mover.initial_area
         self.changes.append(change)
         self.restored.append(remeshed.area_restored)

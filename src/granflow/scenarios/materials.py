@@ -3,18 +3,35 @@
 from __future__ import annotations
 
 from granflow.config import Config
+from granflow.config.schema import Material
 from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
 
 
 def build_rheology(config: Config) -> Rheology:
     """``material.rheology``: the regularised Drucker-Prager law (2.13) or mu(I)."""
-    mat, eps = config.material, config.numerics.eps
+    return material_law(config.material, config.numerics.eps)
+
+
+def material_law(mat: Material, eps: float) -> Rheology:
+    """The law of one material: (2.13), or mu(I) with its parameters."""
     if mat.rheology == "mu-i":
         return MuI(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
                    mu_2_deg=mat.mu_2_deg, i0=mat.i0, grain_diameter=mat.grain_diameter,
                    grain_density=mat.grain_density, eps=eps)
     return DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
                          eps=eps)
+
+
+def layer_material(config: Config) -> Material | None:
+    """The erodible layer's material: [material] with the keys [layer] sets over it, or
+    None when the layer is the column's material (one material: the law and density of
+    [material] everywhere, exactly as without the [layer] section)."""
+    geo = config.geometry
+    if geo.kind != "column" or geo.erodible_thickness <= 0:
+        return None
+    own = {k: v for k, v in config.layer.model_dump().items() if v is not None}
+    layer = config.material.model_copy(update=own)
+    return None if layer == config.material else layer
 
 
 def build_side_walls(config: Config) -> SideWallFriction | None:

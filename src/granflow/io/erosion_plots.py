@@ -1,0 +1,85 @@
+"""The entrainment figure of a collapse over an erodible layer, from the run's files: the
+last deposit with the layer material coloured by where it started, the erosion depth along
+the bed, and the fronts and eroded areas against time (``scenarios/column_layer.py`` says
+what each measure is)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from granflow.io import profiles  # noqa: E402
+from granflow.io.diagnostics import read_diagnostics  # noqa: E402
+from granflow.io.plots import save_figure  # noqa: E402
+from granflow.io.run_dir import RunDir  # noqa: E402
+
+
+def plot_erosion(run_dir: RunDir, config: Any) -> None:
+    """plots/erosion.png, if the run has written its layer's profiles."""
+    markers = profiles.final_profile(run_dir.root, "layer_markers")
+    found = profiles.list_profiles(run_dir.root, "layer_markers")
+    if markers is None and found:
+        markers = found[-1].read()
+    if markers is None:
+        return
+    x = "r" if config.geometry.axisymmetric else "x"
+    he = config.geometry.erodible_thickness
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), height_ratios=[1.3, 1, 1])
+    _deposit(axes[0], run_dir, markers, x, he)
+    _depths(axes[1], run_dir, x, he)
+    _history(axes[2], run_dir, x)
+    fig.tight_layout()
+    save_figure(fig, run_dir.path("plots/erosion.png"))
+
+
+def _deposit(ax: plt.Axes, run_dir: RunDir, markers: dict[str, np.ndarray], x: str,
+             he: float) -> None:
+    surface = profiles.final_profile(run_dir.root, "free_surface")
+    line = profiles.final_profile(run_dir.root, "layer_line")
+    if surface is not None:
+        ax.fill_between(surface["x"], 0, surface["z"], color="0.85", lw=0)
+        ax.plot(surface["x"], surface["z"], color="k", lw=0.8, label="free surface")
+    if line is not None:
+        ax.plot(line["x"], line["z"], color="tab:red", lw=0.8, label="top of layer material")
+    points = ax.scatter(markers["x"], markers["z"], c=markers["x0"], s=2, cmap="viridis",
+                        label="layer material")
+    plt.colorbar(points, ax=ax, label=f"initial {x} (m)", pad=0.01)
+    front = markers["x"][markers["travel"] > 0].max() if (markers["travel"] > 0).any() else 0
+    ax.set(xlim=(0, max(front, markers["x"].max()) * 1.02), ylim=(0, 6 * he),
+           xlabel=f"{x} (m)", ylabel="z (m)",
+           title=f"Last state near the bed, layer material coloured by its initial {x}")
+    ax.legend(fontsize=7, loc="upper right")
+
+
+def _depths(ax: plt.Axes, run_dir: RunDir, x: str, he: float) -> None:
+    for found in profiles.list_profiles(run_dir.root, "erosion_depth"):
+        data = found.read()
+        label = "last state" if found.final else f"t = {found.t:.2f} s"
+        ax.step(data["x0"], data["depth"], where="mid", label=label,
+                color="k" if found.final else None, lw=1.2 if found.final else 0.8)
+    ax.axhline(he, color="0.6", ls="--", lw=0.8, label="layer thickness")
+    ax.set(xlabel=f"initial {x} (m)", ylabel="depth (m)",
+           title="Erosion depth: layer material moved more than one grain diameter")
+    ax.invert_yaxis()
+    ax.legend(fontsize=7, ncol=3)
+
+
+def _history(ax: plt.Axes, run_dir: RunDir, x: str) -> None:
+    diag = read_diagnostics(run_dir.root)
+    if not len(diag) or "column_front_x" not in diag:
+        return
+    ax.plot(diag["t"], diag["front_x"], label="flow front (1 mm above the layer)")
+    ax.plot(diag["t"], diag["column_front_x"], label="column material front")
+    ax.plot(diag["t"], diag["erosion_front_x"], label="erosion front (layer in motion)")
+    ax.set(xlabel="t (s)", ylabel=f"{x} (m)", title="Fronts and eroded areas")
+    ax.legend(fontsize=7, loc="upper left")
+    twin = ax.twinx()
+    twin.plot(diag["t"], diag["layer_displaced_area"], "k--", lw=0.8, label="displaced")
+    twin.plot(diag["t"], diag["layer_mobilised_area"], "k:", lw=0.8, label="in motion")
+    twin.set_ylabel("layer area (m^2)")
+    twin.legend(fontsize=7, loc="lower right")

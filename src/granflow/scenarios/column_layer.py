@@ -1,0 +1,174 @@
+"""The erodible layer followed through a collapse: its material line and markers carried
+with the flow (``geometry/layer_material.py``), the indicator of a layer of its own material
+refreshed after every accepted step, and what entrainment the outputs read.
+
+Entrainment measures (diagnostics columns, profiles, summary):
+* ``layer_mobilised_area``: layer material now faster than the flowing threshold (1 mm/s);
+* ``layer_displaced_area``: layer material that has moved further than one grain diameter
+  from where it started (``layer.grain_diameter``, else ``material.grain_diameter``);
+* ``erosion_front_x``: the furthest layer material in motion; ``column_front_x``: the
+  furthest column material (the flow's own front over the bed);
+* ``erosion_depth_max``: the deepest displacement below the layer's top; the profile
+  ``erosion_depth`` gives it along the bed (by original position);
+* ``layer_area_drift``: layer material in the domain over the layer's initial area, minus
+  one: the conservation error of the tracking (the flow is incompressible).
+Units: m^2 per metre of width in plane strain (areas of the section in r-z too).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import ngsolve as ngs
+import numpy as np
+import shapely
+
+from granflow.config import Config
+from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.sampling import values_at
+from granflow.geometry.layer_material import LayerMaterial
+from granflow.scenarios.column_discretisation import ColumnDiscretisation
+from granflow.scenarios.materials import layer_material
+from granflow.simulation.simulation import Simulation
+
+Table = tuple[list[str], np.ndarray]
+BINS_PER_CELL = 1     # erosion-depth bins along the bed: one per layer cell
+
+
+def displacement_threshold(config: Config) -> float:
+    """One grain diameter of the layer material: what counts as displaced."""
+    layer = layer_material(config) or config.material
+    return layer.grain_diameter
+
+
+@dataclass
+class LayerTracking:
+    """The layer's material, advanced after each accepted step (a loop observer)."""
+
+    config: Config
+    current: ColumnDiscretisation
+    material: LayerMaterial
+    line_velocity: np.ndarray = field(init=False)
+    marker_velocity: np.ndarray = field(init=False)
+    _rates: tuple[np.ndarray, np.ndarray] | None = field(init=False, default=None)
+    largest_drift: float = 0.0
+    largest_mobilised: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.sample()
+
+    @classmethod
+    def start(cls, config: Config, current: ColumnDiscretisation) -> LayerTracking:
+        geo = config.geometry
+        material = LayerMaterial.initial(geo.erodible_thickness, geo.bed_length,
+                                         config.mesh.layer_cells)
+        return cls(config, current, material)
+
+    def sample(self) -> None:
+        """The velocity u^n of the accepted state at the line and the markers, and its rate
+        (u^n - u^{n-1}) / dt_{n-1} when the mesh moves with the extrapolated mid-step
+        velocity (``numerics.ale_extrapolation``): what carries them over the next step, as
+        the ALE carries the free surface (to the same order in time)."""
+        solver = self.current.solver
+        u = solver.velocity
+        extrapolate = self.config.numerics.ale_extrapolation and solver.dt_previous > 0
+        if extrapolate:
+            rate = (u - solver.before_previous.components[0]) / solver.dt_previous
+            u = ngs.CF((u, rate))
+        line = values_at(self.current.mesh, u, self.material.line)
+        markers = values_at(self.current.mesh, u, self.material.markers)
+        self.line_velocity, self.marker_velocity = line[:, :2], markers[:, :2]
+        self._rates = (line[:, 2:], markers[:, 2:]) if extrapolate else None
+
+    def __call__(self, sim: Simulation) -> None:
+        """After an accepted step (and its remesh): move the layer, sample the new velocity,
+        refresh the indicator of a layer of its own material."""
+        line, markers = self.line_velocity, self.marker_velocity
+        if self._rates is not None:      # the extrapolated mid-step velocity
+            line = line + 0.5 * sim.dt * self._rates[0]
+            markers = markers + 0.5 * sim.dt * self._rates[1]
+        self.material.advance(line, markers, sim.dt)
+        self.sample()
+        self.current.set_fraction(self.material)
+
+    # --- what the outputs read ---------------------------------------------------------
+    def domain(self) -> shapely.Geometry:
+        xy = self.current.mesh.ngmesh.Coordinates()
+        edges = shapely.linestrings(xy[self.current.mover.chain.segments])
+        return shapely.union_all(shapely.get_parts(shapely.polygonize(edges)))
+
+    def measures(self) -> dict[str, float]:
+        """This step's entrainment measures (module docstring)."""
+        mat = self.material
+        speed = np.hypot(*self.marker_velocity.T)
+        moving = speed > FLOWING_SPEED
+        displaced = mat.displaced(displacement_threshold(self.config))
+        domain = self.domain()
+        region = mat.region()
+        drift = shapely.intersection(region, domain).area / mat.initial_area - 1.0
+        self.largest_drift = max(self.largest_drift, abs(drift))
+        mobilised = float(moving.sum() * mat.marker_area)
+        self.largest_mobilised = max(self.largest_mobilised, mobilised)
+        return {
+            "layer_mobilised_area": mobilised,
+            "layer_displaced_area": float(displaced.sum() * mat.marker_area),
+            "erosion_front_x": float(mat.markers[moving, 0].max()) if moving.any() else np.nan,
+            "column_front_x": _column_front(domain, region, 0.1 * mat.thickness),
+            "erosion_depth_max": float(self.erosion_depth()[1].max()),
+            "layer_area_drift": drift,
+        }
+
+    def erosion_depth(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bin centres along the bed (original position) and the depth displaced there."""
+        geo = self.config.geometry
+        n = max(1, round(geo.bed_length / (geo.erodible_thickness / self.config.mesh.layer_cells)
+                         / BINS_PER_CELL))
+        bins = np.linspace(0.0, geo.bed_length, n + 1)
+        depth = self.material.erosion_depth(displacement_threshold(self.config), bins)
+        return 0.5 * (bins[1:] + bins[:-1]), depth
+
+    def profiles(self) -> dict[str, Table]:
+        """The material line, the markers (now, origin, largest travel, speed) and the
+        erosion depth along the bed."""
+        mat = self.material
+        speed = np.hypot(*self.marker_velocity.T)
+        x0, depth = self.erosion_depth()
+        return {
+            "layer_line": (["x", "z"], mat.line),
+            "layer_markers": (["x", "z", "x0", "z0", "travel", "speed"],
+                              np.column_stack([mat.markers, mat.origins, mat.travel, speed])),
+            "erosion_depth": (["x0", "depth"], np.column_stack([x0, depth])),
+        }
+
+    def summary(self) -> dict[str, Any]:
+        """End-of-run figures: eroded areas (now and largest), depth, conservation."""
+        now = self.measures()
+        return {
+            "two_materials": self.current.fraction is not None,
+            "layer_displaced_area_m2": now["layer_displaced_area"],
+            "layer_mobilised_area_max_m2": self.largest_mobilised,
+            "erosion_depth_max_m": now["erosion_depth_max"],
+            "column_front_m": now["column_front_x"],
+            "layer_area_drift": now["layer_area_drift"],
+            "layer_area_drift_max": self.largest_drift,
+            "layer_line_points": len(self.material.line),
+        }
+
+    def save_state(self) -> dict[str, Any]:
+        return {"layer_material": self.material.save_state(),
+                "layer_largest": [self.largest_drift, self.largest_mobilised]}
+
+    def restore_material(self, state: dict[str, Any]) -> None:
+        """The tracked layer of a checkpoint (the caller rebuilds the discretisation with
+        it, then calls ``sample``)."""
+        self.material = LayerMaterial.from_state(state["layer_material"])
+        self.largest_drift, self.largest_mobilised = map(float, state["layer_largest"])
+
+
+def _column_front(domain: shapely.Geometry, region: shapely.Geometry, thin: float) -> float:
+    """Rightmost column material: the domain less the layer region, without the films
+    thinner than ``thin`` where the tracked line and the mesh's free surface (which the
+    ALE moves to first order, and the area fix shifts) do not quite coincide."""
+    column = shapely.difference(domain, region).buffer(-0.5 * thin)
+    return float(column.bounds[2] + 0.5 * thin) if not column.is_empty else float("nan")

@@ -1,0 +1,98 @@
+"""The tracked layer material (geometry/layer_material.py): exact fractions, area kept by an
+area-preserving motion, refinement, erosion depth, checkpoint round trip."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from granflow.geometry.layer_material import LayerMaterial, refined
+
+
+def box_mesh(length: float, height: float, nx: int, nz: int) -> tuple[np.ndarray, np.ndarray]:
+    """Structured triangles of [0, length] x [0, height]."""
+    xs, zs = np.linspace(0, length, nx + 1), np.linspace(0, height, nz + 1)
+    gx, gz = np.meshgrid(xs, zs)
+    xy = np.column_stack([gx.ravel(), gz.ravel()])
+    tri = []
+    for j in range(nz):
+        for i in range(nx):
+            a = j * (nx + 1) + i
+            b, c, d = a + 1, a + nx + 2, a + nx + 1
+            tri += [[a, b, c], [a, c, d]]
+    return xy, np.array(tri)
+
+
+def areas(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    a, b, c = xy[tri[:, 0]], xy[tri[:, 1]], xy[tri[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                  - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def test_fractions_integrate_to_the_region_inside_the_mesh() -> None:
+    """A wavy layer top over a box mesh: sum of fraction x area equals the exact area of the
+    region inside the box (shapely on the whole), to round-off."""
+    layer = LayerMaterial.initial(0.01, 1.0, cells=2)
+    layer.line[:, 1] += 0.004 * np.sin(17 * layer.line[:, 0])
+    xy, tri = box_mesh(1.0, 0.05, 37, 9)
+    f = layer.fractions(xy, tri)
+    exact = shapely.intersection(layer.region(), shapely.box(0, 0, 1, 0.05)).area
+    assert np.all((f >= 0) & (f <= 1))
+    assert (f * areas(xy, tri)).sum() == pytest.approx(exact, rel=1e-12)
+    assert 0 < np.count_nonzero((f > 0) & (f < 1)) < len(f) / 2
+
+
+def test_a_shear_keeps_the_layer_area_and_refines_the_line() -> None:
+    """u = (50 (z - h_e), 0) moves every point with a map of determinant 1 and leaves the
+    line's ends (at z = h_e) in place: the layer's area stays exact (the area under the
+    polyline changes by the telescoping sum (z_end^2 - z_0^2) / 2 = 0 per step); the line is
+    refined where the shear stretches it."""
+    he = 0.01
+    layer = LayerMaterial.initial(he, 1.0, cells=2)
+    layer.line[:, 1] += 0.002 * np.sin(2 * np.pi * 6 * layer.line[:, 0])
+    box = shapely.box(-10, 0, 10, 1)
+    before = layer.area_in(box)
+    n = len(layer.line)
+
+    def shear(points: np.ndarray) -> np.ndarray:
+        return np.column_stack([50 * (points[:, 1] - he), np.zeros(len(points))])
+
+    for _ in range(20):
+        layer.advance(shear(layer.line), shear(layer.markers), 0.01)
+    assert layer.area_in(box) == pytest.approx(before, rel=1e-12)
+    assert len(layer.line) > n
+    assert np.hypot(*np.diff(layer.line, axis=0).T).max() <= layer.spacing
+
+
+def test_refined_splits_until_no_segment_is_long() -> None:
+    line = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.1]])
+    out = refined(line, 0.3)
+    assert np.hypot(*np.diff(out, axis=0).T).max() <= 0.3
+    assert len(out) == 4 + 1 + 1   # 1 -> 4 pieces, 0.1 stays one
+
+
+def test_erosion_depth_is_the_deepest_displaced_row() -> None:
+    """Markers of the top two of four rows moved 1 cm in the first half of the layer: the
+    depth there is half the thickness, zero elsewhere."""
+    layer = LayerMaterial.initial(0.008, 1.0, cells=2)
+    top_half = (layer.origins[:, 1] > 0.004) & (layer.origins[:, 0] < 0.5)
+    velocity = np.where(top_half[:, None], [1.0, 0.0], [0.0, 0.0])
+    layer.advance(np.zeros_like(layer.line), velocity, 0.01)
+    depth = layer.erosion_depth(0.005, np.linspace(0, 1, 11))
+    np.testing.assert_allclose(depth, [0.004] * 5 + [0.0] * 5, atol=1e-15)
+    assert layer.displaced(0.005).sum() * layer.marker_area == pytest.approx(0.5 * 0.004)
+
+
+def test_state_round_trip() -> None:
+    layer = LayerMaterial.initial(0.005, 0.5, cells=4)
+    layer.advance(np.ones_like(layer.line) * 1e-3, np.ones_like(layer.markers) * 2e-3, 0.1)
+    back = LayerMaterial.from_state(layer.save_state())
+    for key in ("line", "markers", "origins", "travel"):
+        np.testing.assert_array_equal(getattr(back, key), getattr(layer, key))
+    assert back.spacing == layer.spacing and back.marker_area == layer.marker_area
+
+
+def test_bad_layer_is_refused() -> None:
+    with pytest.raises(ValueError, match="thickness"):
+        LayerMaterial.initial(0.0, 1.0, cells=2)
