@@ -5,11 +5,12 @@ Run: python benchmarks/erosion_layers.py [--cells 2 4 8 16] [--slopes 0]
          [--scenario trapezoid-erodible] [--set key=value ...]
          [--out benchmarks/results/erosion_layers] [--collect]
 
-Each run goes to OUT/runs/slopeS-cellsN, a normal run directory. A run whose summary says it
-finished is not run again, an interrupted one is resumed (``granflow.resume``): rerunning the
-command continues a study that was stopped. ``--collect`` runs nothing and tabulates what is
-there. OUT/erosion_layers.json holds the summaries' figures, OUT/erosion_layers.md the table
-with each figure's change from the previous (coarser) level.
+Each run goes to OUT/runs/slopeS-cellsN, a normal run directory, checkpointed every 100
+steps. A finished run is not run again, one with a checkpoint is resumed
+(``granflow.resume``): rerunning the command continues a study that was stopped.
+``--collect`` runs nothing and tabulates what is there. OUT/erosion_layers.json holds the
+summaries' figures, OUT/erosion_layers.md the table with each figure's change from the
+previous (coarser) level.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import argparse
 import json
 from pathlib import Path
 
-import granflow
+from common.runs import run_or_continue
+
 from granflow.io.run_dir import RunDir, atomic_write_text
 
 KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_triangles",
@@ -27,19 +29,9 @@ KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_
         "layer_area_drift", "layer_area_drift_max", "volume_relative_error"]
 COMPARED = ["runout_m", "column_front_m", "front_stop_time_s", "stop_time_s",
             "layer_displaced_area_m2", "layer_mobilised_area_max_m2"]
-FINISHED = ("completed", "stopped")
-
-
 def run_case(scenario: str, overrides: list[str], out: Path) -> dict:
-    """The run in ``out``: reused when finished, resumed when interrupted, else run."""
-    summary = RunDir.summary(out) if RunDir.is_run_dir(out) else {}
-    if summary.get("status") not in FINISHED:
-        if summary.get("status") == "interrupted":
-            granflow.resume(out)
-        else:
-            granflow.run(scenario, overrides=[*overrides, "output.progress=false"], out=out,
-                         force=True)
-        summary = RunDir.summary(out)
+    """The run in ``out``: kept when finished, continued from its checkpoint, else run."""
+    summary = run_or_continue(scenario, overrides, out)
     return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
 
 
@@ -82,7 +74,7 @@ def main() -> None:
             name = f"slope{slope:g}-cells{cells}"
             out = args.out / "runs" / name
             overrides = [*args.overrides, f"mesh.layer_cells={cells}",
-                         f"geometry.slope_deg={slope!r}"]
+                         f"geometry.slope_deg={slope!r}", "output.checkpoint_every=100"]
             if args.collect and not RunDir.is_run_dir(out):
                 continue
             if args.collect:

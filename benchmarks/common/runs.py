@@ -56,3 +56,22 @@ def distances_mm(first: Path, second: Path, kind: str = "free_surface") -> dict[
     """Mean and max distance (mm, 2 decimals) between two runs' ``kind`` curves, by time."""
     return {f"{t:g}": [round(1e3 * x, 2) for x in d]
             for t, d in profiles.surface_distances(first, second, kind).items()}
+
+
+FINISHED = ("completed", "stopped")
+
+
+def run_or_continue(scenario: str, overrides: list[str], out: Path) -> dict:
+    """The summary of the run in ``out``: kept when finished, continued from its checkpoint
+    when it has one (an interrupted or killed run: a long study goes on across sessions),
+    else run afresh. Long runs should set ``output.checkpoint_every``."""
+    summary = RunDir.summary(out) if RunDir.is_run_dir(out) else {}
+    if summary.get("status") in FINISHED:
+        return summary
+    if (out / "checkpoint" / "state.npz").is_file():
+        granflow.resume(out)
+    else:
+        config = load_config(scenario, [*overrides, "output.progress=false"])
+        shutil.rmtree(out, ignore_errors=True)     # never mix the files of two runs
+        granflow.run(config, out=out, force=True)
+    return RunDir.summary(out)

@@ -89,3 +89,26 @@ def test_a_weak_column_slides_over_a_strong_layer_and_leaves_it_in_place() -> No
     assert weak["layer_displaced_area"] > 2e-4                # a weak layer is dragged along
     assert strong["layer_displaced_area"] < 0.1 * weak["layer_displaced_area"]
     assert strong["erosion_depth_max"] <= 0.25 * 0.01 + 1e-12   # at most the top row
+
+
+def test_a_restored_run_has_the_same_layer_and_goes_on() -> None:
+    """The scenario's checkpoint state restores the tracked layer, its sampled velocities
+    and the indicator on the saved mesh exactly; the restored run then continues."""
+    materials = ("material.friction_angle_deg=20", "layer.friction_angle_deg=30",
+                 "layer.density=1450")
+    first = collapse(*materials, "time.t_end=0.02")
+    first.simulation.run()
+    twin = collapse(*materials, "time.t_end=0.03")
+    twin.restore_state(first.save_state())
+    twin.simulation.restore_state(first.simulation.save_state())
+    assert first.layer is not None and twin.layer is not None
+    for name in ("line", "markers", "origins", "travel"):
+        np.testing.assert_array_equal(getattr(twin.layer.material, name),
+                                      getattr(first.layer.material, name))
+    np.testing.assert_array_equal(twin.layer.marker_velocity, first.layer.marker_velocity)
+    assert first.current.fraction is not None and twin.current.fraction is not None
+    np.testing.assert_array_equal(twin.current.fraction.vec.FV().NumPy(),
+                                  first.current.fraction.vec.FV().NumPy())
+    result = twin.simulation.run()
+    assert result.status == "completed" and twin.simulation.t == pytest.approx(0.03)
+    assert np.abs(twin.layer.material.markers - first.layer.material.markers).max() > 0
