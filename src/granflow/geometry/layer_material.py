@@ -28,6 +28,9 @@ ROWS = 4    # rows of lattice markers across the layer
 
 @dataclass
 class LayerMaterial:
+    """The tracked layer (module docstring). ``advance`` replaces the arrays, it never edits
+    them in place: the region built from a line is reused while the line is the same."""
+
     line: np.ndarray          # (n, 2) the material line, from the wall to the layer's end
     markers: np.ndarray       # (m, 2) lattice markers now
     origins: np.ndarray       # (m, 2) where each marker started
@@ -70,9 +73,17 @@ class LayerMaterial:
         self.travel = np.maximum(self.travel, moved)
         self.line = refined(self.line, self.spacing)
 
-    def region(self) -> shapely.Polygon:
+    def region(self) -> shapely.Geometry:
         """The layer material: below the line, closed far outside the domain (valid even
-        where the advection folded the line onto itself)."""
+        where the advection folded the line onto itself). Built once per position of the
+        line (the measures and the indicator of one step share it)."""
+        cached = getattr(self, "_region", None)
+        if cached is not None and cached[0] is self.line:
+            return cached[1]
+        self._region = (self.line, self._build_region())
+        return self._region[1]
+
+    def _build_region(self) -> shapely.Geometry:
         first, last = self.line[0], self.line[-1]
         ring = np.vstack([self.line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
                                       [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
