@@ -112,3 +112,15 @@ def test_a_restored_run_has_the_same_layer_and_goes_on() -> None:
     result = twin.simulation.run()
     assert result.status == "completed" and twin.simulation.t == pytest.approx(0.03)
     assert np.abs(twin.layer.material.markers - first.layer.material.markers).max() > 0
+
+
+def test_in_r_z_the_layer_is_measured_by_its_volume_of_revolution() -> None:
+    """A cylinder's layer (radius L, thickness h_e) holds pi L^2 h_e: its markers' rings add
+    up to it and the tracked region inside the domain is that at t = 0 (drift 0)."""
+    problem = build_column(load_config("cylinder-erodible", [
+        "mesh.size=0.03", "geometry.bed_length=0.3", "time.output_times=[]"]))
+    layer = problem.layer
+    assert layer is not None
+    he, length = 0.005, 0.3
+    assert layer.marker_weights().sum() == pytest.approx(np.pi * length**2 * he, rel=1e-12)
+    assert abs(layer.measures()["layer_area_drift"]) < 1e-12

@@ -63,6 +63,11 @@ class LayerMaterial:
         """The layer's area at t = 0 (m^2 per metre in plane strain)."""
         return self.marker_area * len(self.origins)
 
+    @property
+    def extent(self) -> tuple[float, float]:
+        """(length, thickness) of the layer at t = 0."""
+        return self.initial_area / self.thickness, self.thickness
+
     def advance(self, line_velocity: np.ndarray, marker_velocity: np.ndarray,
                 dt: float) -> None:
         """Carry the line and the markers over dt (explicit Euler, as the ALE moves the free

@@ -10,9 +10,11 @@ Entrainment measures (diagnostics columns, profiles, summary):
   furthest column material (the flow's own front over the bed);
 * ``erosion_depth_max``: the deepest displacement below the layer's top; the profile
   ``erosion_depth`` gives it along the bed (by original position);
-* ``layer_area_drift``: layer material in the domain over the layer's initial area, minus
+* ``layer_area_drift``: layer material in the domain over the layer's initial amount, minus
   one: the conservation error of the tracking (the flow is incompressible).
-Units: m^2 per metre of width in plane strain (areas of the section in r-z too).
+Units: m^2 per metre of width in plane strain; in r-z the amounts are volumes of revolution
+(m^3: what an axisymmetric incompressible flow conserves, not the section's area), each
+marker standing for the ring it started on.
 """
 
 from __future__ import annotations
@@ -106,18 +108,35 @@ class LayerTracking:
         displaced = mat.displaced(displacement_threshold(self.config))
         domain = self.domain()
         region = mat.region()
-        drift = shapely.intersection(region, domain).area / mat.initial_area - 1.0
+        inside = self.size(shapely.intersection(region, domain))
+        drift = inside / self.size(shapely.box(0, 0, *mat.extent)) - 1.0
         self.largest_drift = max(self.largest_drift, abs(drift))
-        mobilised = float(moving.sum() * mat.marker_area)
+        weight = self.marker_weights()
+        mobilised = float(weight[moving].sum())
         self.largest_mobilised = max(self.largest_mobilised, mobilised)
         return {
             "layer_mobilised_area": mobilised,
-            "layer_displaced_area": float(displaced.sum() * mat.marker_area),
+            "layer_displaced_area": float(weight[displaced].sum()),
             "erosion_front_x": float(mat.markers[moving, 0].max()) if moving.any() else np.nan,
             "column_front_x": _column_front(domain, region, 0.1 * mat.thickness),
             "erosion_depth_max": float(self.erosion_depth()[1].max()),
             "layer_area_drift": drift,
         }
+
+    def size(self, shape: shapely.Geometry) -> float:
+        """Area of a region of the section, or in r-z its volume of revolution
+        2 pi A r_centroid (Pappus)."""
+        if not self.config.geometry.axisymmetric:
+            return float(shape.area)
+        return 0.0 if shape.is_empty else 2 * np.pi * shape.area * shape.centroid.x
+
+    def marker_weights(self) -> np.ndarray:
+        """The amount of layer material each marker stands for: its share of the section's
+        area, or in r-z the ring it started on."""
+        mat = self.material
+        if not self.config.geometry.axisymmetric:
+            return np.full(len(mat.origins), mat.marker_area)
+        return 2 * np.pi * mat.origins[:, 0] * mat.marker_area
 
     def erosion_depth(self) -> tuple[np.ndarray, np.ndarray]:
         """Bin centres along the bed (original position) and the depth displaced there."""
@@ -142,12 +161,13 @@ class LayerTracking:
         }
 
     def summary(self) -> dict[str, Any]:
-        """End-of-run figures: eroded areas (now and largest), depth, conservation."""
+        """End-of-run figures: eroded amounts (now and largest), depth, conservation."""
         now = self.measures()
+        amount, unit = ("volume", "m3") if self.config.geometry.axisymmetric else ("area", "m2")
         return {
             "two_materials": self.current.fraction is not None,
-            "layer_displaced_area_m2": now["layer_displaced_area"],
-            "layer_mobilised_area_max_m2": self.largest_mobilised,
+            f"layer_displaced_{amount}_{unit}": now["layer_displaced_area"],
+            f"layer_mobilised_{amount}_max_{unit}": self.largest_mobilised,
             "erosion_depth_max_m": now["erosion_depth_max"],
             "column_front_m": now["column_front_x"],
             "layer_area_drift": now["layer_area_drift"],
