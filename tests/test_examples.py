@@ -16,6 +16,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
     ("collapse.py", ["free_surfaces.png", "summary.json"]),
     ("parameter_study.py", ["study.csv", "h0.2/summary.json"]),
     ("compare_rheologies.py", ["rheologies.png", "mu-i/summary.json"]),
+    ("erodible_layer.py", ["erosion_depths.png", "looser-layer/plots/erosion.png"]),
 ])
 def test_example_runs(script: str, expected: list[str], tmp_path: Path) -> None:
     out = tmp_path / "out"
