@@ -67,7 +67,10 @@ def overrides(variant: str, shape: str, he: float, slope: float,
               rigid_runout: float | None) -> list[str]:
     """The run's overrides: the variant's, the slope, and for a layer its thickness (the
     column's height above it kept) and its length."""
-    out = [*COMMON, *VARIANTS[variant], f"geometry.slope_deg={slope!r}"]
+    own = VARIANTS[variant]
+    if he == 0:                         # a rigid bed has no layer material
+        own = [o for o in own if not o.startswith("layer.")]
+    out = [*COMMON, *own, f"geometry.slope_deg={slope!r}"]
     if he > 0:
         length = max(1.0, 1.3 * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
         out += [*ERODIBLE, f"geometry.erodible_thickness={he!r}",

@@ -47,7 +47,8 @@ def main() -> None:
               f"metre (largest in motion at once {1e4 * history['layer_mobilised_area'].max():.2f}"
               f"), down to {1e3 * extra['erosion_depth_max_m']:.1f} mm")
         markers = run.profile("layer_markers")
-        moved = markers[markers["travel"] > run.config.material.grain_diameter]
+        grain = run.config.layer.grain_diameter or run.config.material.grain_diameter
+        moved = markers[markers["travel"] > grain]      # displaced: by one grain diameter
         if len(moved):
             print(f"  displaced layer material started between x0 = {moved['x0'].min():.3f} "
                   f"and {moved['x0'].max():.3f} m and now lies up to x = "

@@ -63,7 +63,7 @@ FINISHED = ("completed", "stopped")
 
 def run_or_continue(scenario: str, overrides: list[str], out: Path) -> dict:
     """The summary of the run in ``out``: kept when finished, continued from its checkpoint
-    when it has one (an interrupted or killed run: a long study goes on across sessions),
+    when it has one (an interrupted or killed run: a long study goes on across invocations),
     else run afresh. Long runs should set ``output.checkpoint_every``."""
     summary = RunDir.summary(out) if RunDir.is_run_dir(out) else {}
     if summary.get("status") in FINISHED:

@@ -298,3 +298,17 @@ def test_a_resolved_config_reloads_although_it_lists_inert_keys(tmp_path: Path) 
     path = tmp_path / "config.toml"
     path.write_text(config_to_toml(config))
     assert load_config(path) == config
+
+
+def test_layer_keys_act_only_over_a_layer_and_follow_its_law() -> None:
+    """[layer] keys are refused without an erodible layer; a mu(I) layer under a
+    Drucker-Prager column takes [material]'s mu(I) parameters, which then act."""
+    with pytest.raises(ConfigError, match="layer.density"):
+        load_config("trapezoid-rigid", ["layer.density=1400"])
+    config = load_config("trapezoid-erodible", ["layer.rheology=mu-i", "material.mu_2_deg=40"])
+    assert config.material.mu_2_deg == 40
+    with pytest.raises(ConfigError, match="layer.i0"):
+        load_config("trapezoid-erodible", ["layer.i0=0.5"])    # the layer's law is (2.13)
+    with pytest.raises(ConfigError, match="augmented-lagrangian"):
+        load_config("trapezoid-erodible", ["layer.density=1400",
+                                           "numerics.method=augmented-lagrangian"])

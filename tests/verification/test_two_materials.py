@@ -6,13 +6,21 @@ need resolution, only that the materials keep their identity and their laws."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import ngsolve as ngs
 import numpy as np
 import pytest
 import shapely
 
 from granflow.config import load_config
+from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import signed_areas
+from granflow.geometry.mesh import BED, signed_areas
+from granflow.io.checkpoint import read_checkpoint, write_checkpoint
+from granflow.io.run_dir import RunDir
+from granflow.io.run_state import SimulationState
+from granflow.physics.regions import TwoMaterials
 from granflow.scenarios.column import ColumnCollapse, build_column
 
 BASE = ["mesh.size=0.04", "geometry.erodible_thickness=0.01", "mesh.layer_cells=2",
@@ -91,16 +99,20 @@ def test_a_weak_column_slides_over_a_strong_layer_and_leaves_it_in_place() -> No
     assert strong["erosion_depth_max"] <= 0.25 * 0.01 + 1e-12   # at most the top row
 
 
-def test_a_restored_run_has_the_same_layer_and_goes_on() -> None:
-    """The scenario's checkpoint state restores the tracked layer, its sampled velocities
-    and the indicator on the saved mesh exactly; the restored run then continues."""
+def test_a_restored_run_has_the_same_layer_and_goes_on(tmp_path: Path) -> None:
+    """Through the checkpoint file (data only): the tracked layer, its sampled velocities
+    and the indicator on the saved mesh come back exactly; the restored run continues."""
     materials = ("material.friction_angle_deg=20", "layer.friction_angle_deg=30",
                  "layer.density=1450")
     first = collapse(*materials, "time.t_end=0.02")
     first.simulation.run()
+    run_dir = RunDir.create(tmp_path / "run")
+    write_checkpoint(run_dir, SimulationState(loop=first.simulation.save_state(),
+                                              scenario=first.save_state(), outputs={}))
+    saved = read_checkpoint(run_dir.root)
     twin = collapse(*materials, "time.t_end=0.03")
-    twin.restore_state(first.save_state())
-    twin.simulation.restore_state(first.simulation.save_state())
+    twin.restore_state(saved.scenario)
+    twin.simulation.restore_state(saved.loop)
     assert first.layer is not None and twin.layer is not None
     for name in ("line", "markers", "origins", "travel"):
         np.testing.assert_array_equal(getattr(twin.layer.material, name),
@@ -122,5 +134,27 @@ def test_in_r_z_the_layer_is_measured_by_its_volume_of_revolution() -> None:
     layer = problem.layer
     assert layer is not None
     he, length = 0.005, 0.3
-    assert layer.marker_weights().sum() == pytest.approx(np.pi * length**2 * he, rel=1e-12)
+    volume = np.pi * length**2 * he
+    assert layer.marker_weights().sum() == pytest.approx(volume, rel=1e-12)
+    assert layer.size(shapely.box(0, 0, length, he)) == pytest.approx(volume, rel=1e-12)
+    assert layer.size(shapely.box(0, 0, length, he)) != pytest.approx(length * he)
     assert abs(layer.measures()["layer_area_drift"]) < 1e-12
+
+
+def test_the_walls_see_the_layer_material_under_them() -> None:
+    """The bed lies under the layer: the share of layer material the Coulomb friction's load
+    reads there is 1 (a plain piecewise constant field would read 0 on the boundary, and the
+    fixed point's wall term would take the column's law), and the blended law on the bed is
+    the layer's."""
+    problem = collapse("material.friction_angle_deg=20", "layer.friction_angle_deg=30")
+    law = problem.solver.rheology
+    assert isinstance(law, TwoMaterials)
+    mesh = problem.mesh
+    on_bed = ngs.ds(definedon=mesh.Boundaries(BED))
+    assert ngs.Integrate(law.fraction * on_bed, mesh) == pytest.approx(0.5, rel=1e-12)
+    pressure, rate = ngs.CF(100.0), ngs.CF(1.0)
+    blended = ngs.Integrate(law.effective_viscosity_sq(rate, pressure, NGSOLVE_OPS) * on_bed,
+                            mesh)
+    layer = ngs.Integrate(law.layer.effective_viscosity_sq(rate, pressure, NGSOLVE_OPS)
+                          * on_bed, mesh)
+    assert blended == pytest.approx(layer, rel=1e-12)

@@ -12,12 +12,11 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from granflow.config.messages import fmt_value
+from granflow.config.schema import Layer
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
 
-LAYER_KEYS = ("density", "viscosity", "friction_angle_deg", "rheology", "mu_2_deg", "i0",
-              "grain_diameter", "grain_density")
 MAX_TRIANGLES = 100_000   # about 3.5 GB of peak memory (benchmarks/scaling.py: 2.9 GB at 80,000)
 MAX_STEPS = 10**7         # fewest steps a run may need: at ~10 ms a step, more than a day
 GB_PER_TRIANGLE = 33e-6   # peak memory growth per triangle (benchmarks/scaling.py)
@@ -176,16 +175,18 @@ def inert_keys(c: Config) -> dict[str, str]:
     def add(keys: str, reason: str) -> None:
         out.update(dict.fromkeys(keys.split(), reason))
 
-    layer_keys = " ".join(f"layer.{k}" for k in LAYER_KEYS)
+    layer_keys = " ".join(f"layer.{k}" for k in Layer.model_fields)
     erodible = g.kind == "column" and g.erodible_thickness > 0
-    if c.material.rheology == "drucker-prager":
+    layer_law = (c.layer.rheology or c.material.rheology) if erodible else "drucker-prager"
+    if c.material.rheology == "drucker-prager" and layer_law == "drucker-prager":
         add("material.mu_2_deg material.i0 material.grain_density"
             + ("" if erodible else " material.grain_diameter"),
-            "it is a parameter of mu(I), and material.rheology = 'drucker-prager'")
+            "it is a parameter of mu(I), and material.rheology = 'drucker-prager'"
+            + (" (the layer's too)" if erodible else ""))
     if not erodible:
         add(layer_keys, "it describes the erodible layer's material, and there is none "
             "(geometry.erodible_thickness = 0 or geometry.kind = 'periodic-layer')")
-    elif (c.layer.rheology or c.material.rheology) == "drucker-prager":
+    elif layer_law == "drucker-prager":
         add("layer.mu_2_deg layer.i0 layer.grain_density", "it is a parameter of mu(I), and "
             "the layer's law (layer.rheology, else material.rheology) is 'drucker-prager'")
     if g.kind == "periodic-layer":

@@ -155,8 +155,9 @@ class DualVariable:
         layer of another Drucker-Prager material (blended with the triangles' fractions)."""
         law = self.rheology
         if isinstance(law, TwoMaterials):
-            per_triangle = law.fraction.vec.FV().NumPy()
-            points = np.repeat(per_triangle, len(self._p_k) // len(per_triangle))
+            per_triangle = law.per_triangle.vec.FV().NumPy()
+            assert len(self._p_k) == 3 * len(per_triangle)     # 3 points per triangle
+            points = np.repeat(per_triangle, 3)
             return blend(law.column.yield_stress(1.0), law.layer.yield_stress(1.0), points)
         return law.yield_stress(1.0)
 

@@ -24,6 +24,7 @@ import shapely
 
 FAR = 1e3   # m: the region is closed this far outside any domain
 ROWS = 4    # rows of lattice markers across the layer
+ROUND_OFF = 1e-12   # a triangle's share of layer material this close to 0 or 1 is 0 or 1
 
 
 @dataclass
@@ -62,6 +63,11 @@ class LayerMaterial:
     def initial_area(self) -> float:
         """The layer's area at t = 0 (m^2 per metre in plane strain)."""
         return self.marker_area * len(self.origins)
+
+    @property
+    def pitch(self) -> float:
+        """Distance between neighbouring markers at t = 0 (along and across the layer)."""
+        return self.thickness / ROWS
 
     @property
     def extent(self) -> tuple[float, float]:
@@ -109,15 +115,16 @@ class LayerMaterial:
                                                    predicate="intersects")
         if len(crossing):
             crossing = np.unique(crossing)
-            parts = shapely.intersection(polygons[crossing],
-                                         _slab_pieces(region, corners[crossing]))
-            out[crossing] = np.clip(shapely.area(parts) / shapely.area(polygons[crossing]),
-                                    0.0, 1.0)
+            try:
+                parts = shapely.intersection(polygons[crossing],
+                                             _slab_pieces(region, corners[crossing]))
+            except shapely.errors.GEOSException:   # a degenerate fold: whole triangles
+                return out                          # by their centroids, for this step
+            share = shapely.area(parts) / shapely.area(polygons[crossing])
+            # a triangle the line only touches along an edge holds one material exactly
+            out[crossing] = np.where(share > 1 - ROUND_OFF, 1.0,
+                                     np.where(share < ROUND_OFF, 0.0, share))
         return out
-
-    def area_in(self, domain: shapely.Polygon) -> float:
-        """Area of the layer material inside ``domain`` (the current flow domain)."""
-        return float(shapely.intersection(self.region(), domain).area)
 
     def displaced(self, distance: float) -> np.ndarray:
         """Markers that have been further than ``distance`` from their origin."""
@@ -131,7 +138,7 @@ class LayerMaterial:
         index = np.digitize(self.origins[moved, 0], bins) - 1
         ok = (index >= 0) & (index < len(depth))
         np.maximum.at(depth, index[ok], self.thickness - self.origins[moved, 1][ok]
-                      + 0.5 * self.thickness / ROWS)
+                      + 0.5 * self.pitch)
         return np.minimum(depth, self.thickness)
 
     def save_state(self) -> dict[str, np.ndarray | float]:
@@ -141,7 +148,7 @@ class LayerMaterial:
 
     @classmethod
     def from_state(cls, state: dict[str, np.ndarray | float]) -> LayerMaterial:
-        arrays = {k: np.asarray(state[k], dtype=float)
+        arrays = {k: np.array(state[k], dtype=float)
                   for k in ("line", "markers", "origins", "travel")}
         return cls(**arrays, spacing=float(state["spacing"]),         # type: ignore[arg-type]
                    thickness=float(state["thickness"]),               # type: ignore[arg-type]

@@ -81,5 +81,5 @@ def _history(ax: plt.Axes, run_dir: RunDir, x: str) -> None:
     twin = ax.twinx()
     twin.plot(diag["t"], diag["layer_displaced_area"], "k--", lw=0.8, label="displaced")
     twin.plot(diag["t"], diag["layer_mobilised_area"], "k:", lw=0.8, label="in motion")
-    twin.set_ylabel("layer area (m^2)")
+    twin.set_ylabel("layer volume (m^3)" if x == "r" else "layer area (m^2 per m)")
     twin.legend(fontsize=7, loc="lower right")

@@ -44,7 +44,7 @@ class FieldSnapshots:
         """Velocity, pressure, |Du|, effective viscosity and the flowing flag at time t."""
         solver, mesh = self.state.solver, self.state.mesh
         speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
-        materials = ({"layer_fraction": solver.rheology.fraction.vec.FV().NumPy().copy()}
+        materials = ({"layer_fraction": solver.rheology.per_triangle.vec.FV().NumPy().copy()}
                      if isinstance(solver.rheology, TwoMaterials) else {})
         self.series.write(
             t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),

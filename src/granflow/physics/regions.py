@@ -24,11 +24,15 @@ def blend(column: Any, layer: Any, fraction: Any) -> Any:
 
 @dataclass(frozen=True)
 class TwoMaterials:
-    """The ``Rheology`` of a column (``column``) over a layer (``layer``)."""
+    """The ``Rheology`` of a column (``column``) over a layer (``layer``): ``fraction`` is
+    the share of layer material where the law is evaluated, ``per_triangle`` its values
+    triangle by triangle for the consumers that work on arrays (an object with the
+    finite-element engine's ``vec``; ``fem/primal_dual.py``, ``io/fields.py``)."""
 
     column: Rheology
     layer: Rheology
     fraction: Any
+    per_triangle: Any = None
 
     @property
     def viscosity(self) -> Any:

@@ -124,11 +124,14 @@ def discretise(config: Config, mesh: ngs.Mesh,
 def _materials(config: Config, mesh: ngs.Mesh) -> tuple[Rheology, Density,
                                                          ngs.GridFunction | None]:
     """One material: [material]'s law and density. A layer of its own: both blended with
-    the indicator, a piecewise constant share of layer material per triangle."""
+    the indicator, a piecewise constant share of layer material per triangle, read on the
+    walls from the adjacent triangle (a plain L2 function is 0 on a boundary element, which
+    would give the Coulomb walls' load under the layer the column's law)."""
     layer = layer_material(config)
     if layer is None:
         return build_rheology(config), config.material.density, None
-    fraction = ngs.GridFunction(ngs.L2(mesh, order=0))
+    per_triangle = ngs.GridFunction(ngs.L2(mesh, order=0))
+    share = ngs.BoundaryFromVolumeCF(per_triangle)
     law = TwoMaterials(build_rheology(config), material_law(layer, config.numerics.eps),
-                       fraction)
-    return law, blend(config.material.density, layer.density, fraction), fraction
+                       share, per_triangle)
+    return law, blend(config.material.density, layer.density, share), per_triangle

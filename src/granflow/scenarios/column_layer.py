@@ -35,7 +35,6 @@ from granflow.scenarios.materials import layer_material
 from granflow.simulation.simulation import Simulation
 
 Table = tuple[list[str], np.ndarray]
-BINS_PER_CELL = 1     # erosion-depth bins along the bed: one per layer cell
 
 
 def displacement_threshold(config: Config) -> float:
@@ -106,11 +105,14 @@ class LayerTracking:
         speed = np.hypot(*self.marker_velocity.T)
         moving = speed > FLOWING_SPEED
         displaced = mat.displaced(displacement_threshold(self.config))
-        domain = self.domain()
-        region = mat.region()
-        inside = self.size(shapely.intersection(region, domain))
-        drift = inside / self.size(shapely.box(0, 0, *mat.extent)) - 1.0
-        self.largest_drift = max(self.largest_drift, abs(drift))
+        try:
+            domain, region = self.domain(), mat.region()
+            inside = self.size(shapely.intersection(region, domain))
+            drift = inside / self.size(shapely.box(0, 0, *mat.extent)) - 1.0
+            column_front = _column_front(domain, region, 0.1 * mat.thickness)
+            self.largest_drift = max(self.largest_drift, abs(drift))
+        except shapely.errors.GEOSException:    # a degenerate fold: not measured this step
+            drift = column_front = float("nan")
         weight = self.marker_weights()
         mobilised = float(weight[moving].sum())
         self.largest_mobilised = max(self.largest_mobilised, mobilised)
@@ -118,7 +120,7 @@ class LayerTracking:
             "layer_mobilised_area": mobilised,
             "layer_displaced_area": float(weight[displaced].sum()),
             "erosion_front_x": float(mat.markers[moving, 0].max()) if moving.any() else np.nan,
-            "column_front_x": _column_front(domain, region, 0.1 * mat.thickness),
+            "column_front_x": column_front,
             "erosion_depth_max": float(self.erosion_depth()[1].max()),
             "layer_area_drift": drift,
         }
@@ -139,11 +141,10 @@ class LayerTracking:
         return 2 * np.pi * mat.origins[:, 0] * mat.marker_area
 
     def erosion_depth(self) -> tuple[np.ndarray, np.ndarray]:
-        """Bin centres along the bed (original position) and the depth displaced there."""
-        geo = self.config.geometry
-        n = max(1, round(geo.bed_length / (geo.erodible_thickness / self.config.mesh.layer_cells)
-                         / BINS_PER_CELL))
-        bins = np.linspace(0.0, geo.bed_length, n + 1)
+        """Bin centres along the bed (original position) and the depth displaced there:
+        one bin per column of markers (a quarter of the layer's thickness wide)."""
+        length = self.config.geometry.bed_length
+        bins = np.linspace(0.0, length, max(1, round(length / self.material.pitch)) + 1)
         depth = self.material.erosion_depth(displacement_threshold(self.config), bins)
         return 0.5 * (bins[1:] + bins[:-1]), depth
 
@@ -182,6 +183,10 @@ class LayerTracking:
     def restore_material(self, state: dict[str, Any]) -> None:
         """The tracked layer of a checkpoint (the caller rebuilds the discretisation with
         it, then calls ``sample``)."""
+        if "layer_material" not in state:
+            raise ValueError("this checkpoint of a run over an erodible layer was written by "
+                             "a granflow that did not track the layer's material; run it "
+                             "again from the start")
         self.material = LayerMaterial.from_state(state["layer_material"])
         self.largest_drift, self.largest_mobilised = map(float, state["layer_largest"])
 
