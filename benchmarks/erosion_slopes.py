@@ -52,6 +52,7 @@ VARIANTS = {
     "loose-layer": ["layer.density=1450", "layer.friction_angle_deg=23.5"],  # packing 0.58
     "side-walls": ["boundary.channel_width=0.1"],        # the experiments' 10 cm channel
 }
+RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
@@ -98,7 +99,7 @@ def table(results: dict[str, dict]) -> str:
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
                                                       r["he"])):
-        rigid = results.get(key(r["variant"], r["shape"], 0.0, r["slope"]), {})
+        rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
         x, x0 = runout(r), runout(rigid)
         ratio = f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else "-"
 
@@ -123,7 +124,7 @@ def figure(results: dict[str, dict], path: Path) -> None:
                     label="experiments: up to +40 % above ~16 deg")
     groups: dict[tuple, list[tuple[float, float]]] = {}
     for r in results.values():
-        rigid = results.get(key(r["variant"], r["shape"], 0.0, r["slope"]), {})
+        rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
         x, x0 = runout(r), runout(rigid)
         if r["he"] > 0 and x and x0:
             groups.setdefault((r["variant"], r["shape"], r["he"]), []).append(
@@ -142,12 +143,19 @@ def key(variant: str, shape: str, he: float, slope: float) -> str:
     return f"{variant}/{shape}-{1e3 * he:g}mm-{slope:g}"
 
 
+def rigid_key(variant: str, shape: str, slope: float) -> str:
+    """The rigid-bed run a variant's ratio is taken against."""
+    return key(RIGID_TWIN.get(variant, variant), shape, 0.0, slope)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=VARIANTS)
     parser.add_argument("--shapes", nargs="+", default=["rectangle"], choices=SCENARIO)
     parser.add_argument("--slopes", nargs="+", type=float, default=[0, 10, 16, 19, 22])
     parser.add_argument("--thickness", nargs="+", type=float, default=[0.005])
+    parser.add_argument("--beds", nargs="+", default=["rigid", "erodible"],
+                        choices=["rigid", "erodible"])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_slopes"))
     parser.add_argument("--collect", action="store_true")
     args = parser.parse_args()
@@ -156,7 +164,11 @@ def main() -> None:
     for variant in args.variants:
         for shape in args.shapes:
             for slope in args.slopes:
-                for he in [0.0, *args.thickness]:
+                beds = ([0.0] if "rigid" in args.beds else []) + (
+                    args.thickness if "erodible" in args.beds else [])
+                for he in beds:
+                    if he == 0 and variant in RIGID_TWIN:     # its rigid bed is the twin's
+                        continue
                     name = key(variant, shape, he, slope)
                     folder = args.out / "runs" / name
                     if args.collect:
@@ -165,7 +177,7 @@ def main() -> None:
                         summary = RunDir.summary(folder)
                         row = {k: summary.get(k) for k in KEYS}
                     else:
-                        rigid = results.get(key(variant, shape, 0.0, slope), {}).get("runout_m")
+                        rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
                         row = run(variant, shape, he, slope, rigid, folder)
                     results[name] = row | {"variant": variant, "shape": shape,
                                            "slope": slope, "he": he}
