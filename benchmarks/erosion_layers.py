@@ -75,8 +75,9 @@ def main() -> None:
             out = args.out / "runs" / name
             overrides = [*args.overrides, f"mesh.layer_cells={cells}",
                          f"geometry.slope_deg={slope!r}", "output.checkpoint_every=100"]
-            if args.collect and not RunDir.is_run_dir(out):
-                continue
+            if args.collect and (not RunDir.is_run_dir(out)
+                                 or RunDir.summary(out).get("status") == "running"):
+                continue                                   # (a live run is not collected)
             if args.collect:
                 summary = RunDir.summary(out)
                 row = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}

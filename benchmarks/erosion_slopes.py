@@ -172,8 +172,9 @@ def main() -> None:
                     name = key(variant, shape, he, slope)
                     folder = args.out / "runs" / name
                     if args.collect:
-                        if not RunDir.is_run_dir(folder):
-                            continue
+                        if (not RunDir.is_run_dir(folder)
+                                or RunDir.summary(folder).get("status") == "running"):
+                            continue                       # (a live run is not collected)
                         summary = RunDir.summary(folder)
                         row = {k: summary.get(k) for k in KEYS}
                     else:
