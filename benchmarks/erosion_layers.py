@@ -19,7 +19,7 @@ import argparse
 import json
 from pathlib import Path
 
-from common.runs import run_or_continue
+from common.runs import flow_duration, run_or_continue
 
 from granflow.io.run_dir import RunDir, atomic_write_text
 
@@ -27,12 +27,18 @@ KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_
         "remeshes", "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
         "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "erosion_depth_max_m",
         "layer_area_drift", "layer_area_drift_max", "volume_relative_error"]
-COMPARED = ["runout_m", "column_front_m", "front_stop_time_s", "stop_time_s",
-            "layer_displaced_area_m2", "layer_mobilised_area_max_m2"]
+COMPARED = ["runout_m", "column_front_m", "duration_s", "stop_time_s",
+            "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "layer_area_drift_max"]
 def run_case(scenario: str, overrides: list[str], out: Path) -> dict:
     """The run in ``out``: kept when finished, continued from its checkpoint, else run."""
     summary = run_or_continue(scenario, overrides, out)
-    return {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
+    return row_of(summary, out, overrides)
+
+
+def row_of(summary: dict, out: Path, overrides: list[str]) -> dict:
+    """The summary's figures and the flow's duration (below 1 % flowing)."""
+    return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out),
+                                                "overrides": overrides}
 
 
 def table(results: dict[str, dict]) -> str:
@@ -79,8 +85,7 @@ def main() -> None:
                                  or RunDir.summary(out).get("status") == "running"):
                 continue                                   # (a live run is not collected)
             if args.collect:
-                summary = RunDir.summary(out)
-                row = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
+                row = row_of(RunDir.summary(out), out, overrides)
             else:
                 row = run_case(args.scenario, overrides, out)
             results[name] = row | {"slope": slope, "cells": cells}

@@ -13,7 +13,8 @@ Runs go to OUT/runs/VARIANT/SHAPE-HEmm-SLOPE (HE = 0 is the rigid bed); a finish
 kept and one with a checkpoint (every 100 steps) continued, so rerunning the command
 continues the study. OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
-erosion_slopes.png the ratio against slope.
+erosion_slopes.png the ratio against slope. The flow duration is the time the flowing
+area falls below 1 % (``common/runs.flow_duration``).
 
 Experimental reference (what could be checked here; the papers' tables were not reachable):
 on glass beads (repose angle about 23.5 deg, avalanche angle about 25.5 deg), an erodible
@@ -36,7 +37,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from common.runs import run_or_continue  # noqa: E402
+from common.runs import flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir, atomic_write_text  # noqa: E402
@@ -84,7 +85,8 @@ def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
     """One run: kept when finished, continued from its checkpoint, else run afresh."""
     found = overrides(variant, shape, he, slope, rigid)
     summary = run_or_continue(SCENARIO[shape], found, out)
-    return {k: summary.get(k) for k in KEYS} | {"overrides": found}
+    return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out),
+                                                "overrides": found}
 
 
 def runout(row: dict) -> float | None:
@@ -95,7 +97,8 @@ def runout(row: dict) -> float | None:
 
 def table(results: dict[str, dict]) -> str:
     head = ["variant", "shape", "slope (deg)", "layer (mm)", "runout (m)", "ratio to rigid",
-            "stop (s)", "displaced layer (m^2)", "erosion depth (mm)", "wall time (min)"]
+            "flow duration (s)", "stop (s)", "displaced layer (m^2)", "erosion depth (mm)",
+            "wall time (min)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
                                                       r["he"])):
@@ -109,7 +112,8 @@ def table(results: dict[str, dict]) -> str:
         lines.append("| " + " | ".join([
             r["variant"], r["shape"], f"{r['slope']:g}", f"{1e3 * r['he']:g}",
             num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", ratio,
-            num(r.get("stop_time_s"), ".3f"), num(r.get("layer_displaced_area_m2"), ".2e"),
+            num(r.get("duration_s"), ".3f"), num(r.get("stop_time_s"), ".3f"),
+            num(r.get("layer_displaced_area_m2"), ".2e"),
             num(r.get("erosion_depth_max_m"), ".1f", 1e3),
             num(r.get("wall_time_s"), ".1f", 1 / 60)]) + " |")
     return "\n".join(lines) + "\n"
@@ -176,7 +180,8 @@ def main() -> None:
                                 or RunDir.summary(folder).get("status") == "running"):
                             continue                       # (a live run is not collected)
                         summary = RunDir.summary(folder)
-                        row = {k: summary.get(k) for k in KEYS}
+                        row = {k: summary.get(k) for k in KEYS} | {
+                            "duration_s": flow_duration(folder)}
                     else:
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
                         row = run(variant, shape, he, slope, rigid, folder)
