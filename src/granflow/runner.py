@@ -223,6 +223,7 @@ class _Run:
             "outputs_at_rest": at_rest,   # output times written from the final (rest) state
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
             "unconverged_steps": result.unconverged_steps,
+            "skipped_remeshes": result.skipped_remeshes,
             "nonlinear_iterations": result.nonlinear_iterations,
             "linear_solves": result.linear_solves,
             "wall_time_s": result.wall_time_s,

@@ -91,6 +91,7 @@ class RunResult:
     unconverged_steps: int           # accepted without convergence: always 0 now
     wall_time_s: float
     rejections: dict[str, int] = field(default_factory=dict)
+    skipped_remeshes: int = 0        # quality remeshes that failed: the run went on without
 
 
 @dataclass
@@ -126,6 +127,7 @@ class Simulation:
     nonlinear_iterations: int = 0
     momentum_solves: int = 0
     unconverged_steps: int = 0
+    skipped_remeshes: int = 0
     remeshed_this_step: bool = False
     rejections: dict[str, int] = field(default_factory=dict)
     checkpoint: Observer | None = None   # called after a step once its stop test passed
@@ -155,6 +157,7 @@ class Simulation:
             "nonlinear_iterations": self.nonlinear_iterations,
             "momentum_solves": self.momentum_solves,
             "unconverged_steps": self.unconverged_steps,
+            "skipped_remeshes": self.skipped_remeshes,
             "rejections": dict(self.rejections),
             "wall_time_s": self.wall_time(),
             "steps_policy": copy.deepcopy(self.steps_policy),
@@ -167,6 +170,7 @@ class Simulation:
                     "momentum_solves", "unconverged_steps"):
             setattr(self, key, state[key])
         self.rejections = dict(state["rejections"])
+        self.skipped_remeshes = int(state.get("skipped_remeshes", 0))
         self.elapsed_before = state["wall_time_s"]
         if state["steps_policy"] is not None:   # None: keep the policy of a changed config
             self.steps_policy = state["steps_policy"]
@@ -230,7 +234,7 @@ class Simulation:
             try:
                 self.remesher.remesh()  # a tangling move or a stall: new mesh, same dt
                 return None
-            except RuntimeError as exc:  # then fall back to smaller steps
+            except Exception as exc:  # (the mesher's own errors too) then smaller steps
                 self._remesh_error = f"; remeshing failed: {exc}"
         self._rejections_in_row += 1
         try:
@@ -319,7 +323,8 @@ class Simulation:
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
             linear_solves=self.linear_solves, unconverged_steps=self.unconverged_steps,
-            wall_time_s=wall, rejections=dict(self.rejections))
+            wall_time_s=wall, rejections=dict(self.rejections),
+            skipped_remeshes=self.skipped_remeshes)
 
     def _accept(self, attempt: _Attempt) -> None:
         self._rejections_in_row = 0
@@ -334,6 +339,9 @@ class Simulation:
         self.step += 1
         self.last_report, self.last_estimate = attempt.report, attempt.estimate
         if self.remesher is not None and self.remesher.needs_remesh():
-            self.remesher.remesh()
+            try:
+                self.remesher.remesh()
+            except Exception:   # (the mesher's own errors too) the mesh in use is valid:
+                self.skipped_remeshes += 1   # go on; a tangling step asks again
         for observer in self.observers:
             observer(self)
