@@ -90,8 +90,9 @@ def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
 
 
 def runout(row: dict) -> float | None:
-    """The runout once the front is at rest (None while it still moves)."""
-    settled = row.get("status") == "stopped" or row.get("front_stop_time_s") is not None
+    """The runout once the front is at rest (None while it still moves, or if it failed)."""
+    settled = row.get("status") == "stopped" or (
+        row.get("status") == "completed" and row.get("front_stop_time_s") is not None)
     return row.get("runout_m") if settled else None
 
 
