@@ -52,6 +52,10 @@ def table(results: dict[str, dict]) -> str:
             previous = None
         cells = [f"{r['slope']:g}", str(r["cells"]), str(r["n_triangles"]),
                  f"{r['wall_time_s']:.0f}" if r["wall_time_s"] else "-", r["status"]]
+        if r["status"] not in ("completed", "stopped"):     # mid-run figures: not compared
+            cells[-1] += f" at t = {r['t_final']:.3f} s"
+            lines.append("| " + " | ".join(cells + ["-"] * len(COMPARED)) + " |")
+            continue
         for key in COMPARED:
             value = r.get(key)
             text = "-" if value is None else f"{value:.4g}"
