@@ -19,9 +19,9 @@ import argparse
 import json
 from pathlib import Path
 
-from common.runs import flow_duration, run_or_continue
+from common.runs import collected, flow_duration, run_or_continue
 
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import atomic_write_text
 
 KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_triangles",
         "remeshes", "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
@@ -85,11 +85,11 @@ def main() -> None:
             out = args.out / "runs" / name
             overrides = [*args.overrides, f"mesh.layer_cells={cells}",
                          f"geometry.slope_deg={slope!r}", "output.checkpoint_every=100"]
-            if args.collect and (not RunDir.is_run_dir(out)
-                                 or RunDir.summary(out).get("status") == "running"):
-                continue                                   # (a live run is not collected)
             if args.collect:
-                row = row_of(RunDir.summary(out), out, overrides)
+                summary = collected(out)
+                if summary is None:
+                    continue
+                row = row_of(summary, out, overrides)
             else:
                 row = run_case(args.scenario, overrides, out)
             results[name] = row | {"slope": slope, "cells": cells}

@@ -37,10 +37,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from common.runs import flow_duration, run_or_continue  # noqa: E402
+from common.runs import collected, flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
-from granflow.io.run_dir import RunDir, atomic_write_text  # noqa: E402
+from granflow.io.run_dir import atomic_write_text  # noqa: E402
 
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
@@ -177,10 +177,9 @@ def main() -> None:
                     name = key(variant, shape, he, slope)
                     folder = args.out / "runs" / name
                     if args.collect:
-                        if (not RunDir.is_run_dir(folder)
-                                or RunDir.summary(folder).get("status") == "running"):
-                            continue                       # (a live run is not collected)
-                        summary = RunDir.summary(folder)
+                        summary = collected(folder)
+                        if summary is None:
+                            continue
                         row = {k: summary.get(k) for k in KEYS} | {
                             "duration_s": flow_duration(folder)}
                     else:

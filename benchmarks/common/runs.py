@@ -89,3 +89,12 @@ def flow_duration(root: Path, fraction: float = 0.01) -> float | None:
     flowing = diag["flowing_fraction"].to_numpy()
     after = flowing[flowing.argmax():] < fraction
     return float(diag["t"].to_numpy()[flowing.argmax() + after.argmax()]) if after.any() else None
+
+
+def collected(out: Path) -> dict | None:
+    """The summary of the run in ``out`` for a table, or None when there is none yet or it
+    is still running (a live run is not collected)."""
+    if not RunDir.is_run_dir(out):
+        return None
+    summary = RunDir.summary(out)
+    return None if summary.get("status") == "running" else summary

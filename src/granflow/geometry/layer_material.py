@@ -137,9 +137,17 @@ class LayerMaterial:
         depth = np.zeros(len(bins) - 1)
         index = np.digitize(self.origins[moved, 0], bins) - 1
         ok = (index >= 0) & (index < len(depth))
-        np.maximum.at(depth, index[ok], self.thickness - self.origins[moved, 1][ok]
-                      + 0.5 * self.pitch)
+        np.maximum.at(depth, index[ok], self._depths(moved)[ok])
         return np.minimum(depth, self.thickness)
+
+    def deepest(self, distance: float) -> float:
+        """The largest erosion depth along the bed (the profile's maximum, without it)."""
+        moved = self.displaced(distance)
+        return float(min(self._depths(moved).max(), self.thickness)) if moved.any() else 0.0
+
+    def _depths(self, moved: np.ndarray) -> np.ndarray:
+        """Depth below the layer's top down to the bottom of each moved marker's row."""
+        return self.thickness - self.origins[moved, 1] + 0.5 * self.pitch
 
     def save_state(self) -> dict[str, np.ndarray | float]:
         return {"line": self.line, "markers": self.markers, "origins": self.origins,

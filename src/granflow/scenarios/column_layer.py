@@ -53,10 +53,12 @@ class LayerTracking:
     line_velocity: np.ndarray = field(init=False)
     marker_velocity: np.ndarray = field(init=False)
     _rates: tuple[np.ndarray, np.ndarray] | None = field(init=False, default=None)
+    threshold: float = field(init=False)    # what counts as displaced (m)
     largest_drift: float = 0.0
     largest_mobilised: float = 0.0
 
     def __post_init__(self) -> None:
+        self.threshold = displacement_threshold(self.config)
         self.sample()
 
     @classmethod
@@ -104,7 +106,7 @@ class LayerTracking:
         mat = self.material
         speed = np.hypot(*self.marker_velocity.T)
         moving = speed > FLOWING_SPEED
-        displaced = mat.displaced(displacement_threshold(self.config))
+        displaced = mat.displaced(self.threshold)
         try:
             domain, region = self.domain(), mat.region()
             inside = self.size(shapely.intersection(region, domain))
@@ -121,7 +123,7 @@ class LayerTracking:
             "layer_displaced_area": float(weight[displaced].sum()),
             "erosion_front_x": float(mat.markers[moving, 0].max()) if moving.any() else np.nan,
             "column_front_x": column_front,
-            "erosion_depth_max": float(self.erosion_depth()[1].max()),
+            "erosion_depth_max": mat.deepest(self.threshold),
             "layer_area_drift": drift,
         }
 
@@ -145,7 +147,7 @@ class LayerTracking:
         one bin per column of markers (a quarter of the layer's thickness wide)."""
         length = self.config.geometry.bed_length
         bins = np.linspace(0.0, length, max(1, round(length / self.material.pitch)) + 1)
-        depth = self.material.erosion_depth(displacement_threshold(self.config), bins)
+        depth = self.material.erosion_depth(self.threshold, bins)
         return 0.5 * (bins[1:] + bins[:-1]), depth
 
     def profiles(self) -> dict[str, Table]:
