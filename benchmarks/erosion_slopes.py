@@ -57,7 +57,7 @@ RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same 
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
-            "mesh.layer_cells=2"]
+            "mesh.layer_cells=2", "mesh.layer_ahead=0.1"]   # benchmarks/layer_ahead.py
 COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100"]
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
         "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",

@@ -45,11 +45,13 @@ ALTERNATIVE = {
     "geometry.bed_length": 0.5, "geometry.erodible_thickness": 0.03, "time.dt_max": 1e-4,
     "numerics.tol": 1e-2, "numerics.eps_friction": 1e-2, "numerics.al_r": 100.0,
     "layer.rheology": '"mu-i"', "layer.density": 1400.0, "layer.viscosity": 0.5,
+    "mesh.layer_ahead": 0.1,
     "layer.grain_diameter": 1e-8, "material.grain_diameter": 1e-8,   # any creep is "displaced"
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],
     "mesh.remesh_quality": ["time.t_end=0.1"],   # long enough for the mesh to degrade
+    "mesh.layer_ahead": ["geometry.bed_length=0.5"],   # longer than the column + 0.1 m
 }
 # Keys whose effect needs a run to rest or a fold that releases: a few steps cannot show
 # it, so a test of the part they drive shows it instead (named here).

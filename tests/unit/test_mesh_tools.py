@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from granflow.ale.free_surface import BoundaryChain, polygon_area, segments_intersect
-from granflow.ale.remesh import kept_boundary_vertices, remesh, shape_quality
+from granflow.ale.remesh import kept_boundary_vertices, lengthen_layer, remesh, shape_quality
 from granflow.geometry.domains import column
 from granflow.geometry.mesh import (
     BED,
+    END,
     SURFACE,
     WALL,
     boundary_edge_counts,
@@ -175,3 +176,29 @@ def test_vectorised_close_folds_agrees_with_the_pairwise_loops() -> None:
         assert close_folds(points, labels) == expected
         cut += len(expected[0]) < len(points)
     assert 10 < cut < 190
+
+
+def test_a_remesh_lengthens_an_erodible_layer_by_its_undisturbed_stretch() -> None:
+    """Moving the layer's far end from 0.4 m to 0.6 m adds the 0.2 m x 5 mm stretch: the
+    bed runs on, the end rises to the layer's thickness there, the mesh keeps one end edge
+    per layer cell, and a layer already longer is left alone."""
+    poly = column("trapezoid", 0.297, 0.255, 70.0, erodible_thickness=0.005, bed_length=0.4)
+    sizes = [0.0025 if max(p[1], q[1]) <= 0.01 else 0.03
+             for p, q in zip(poly.points, poly.points[1:] + poly.points[:1], strict=True)]
+    mesh = polygon_mesh(poly.points, poly.labels, 0.03, sizes)
+    edge = lambda p, q: 0.0025 if max(p[1], q[1]) <= 0.01 else 0.03  # noqa: E731
+    remeshed = remesh(mesh, 0.03, edge, layer_end=0.6, layer_top=0.005)
+    assert remeshed.area_added == pytest.approx(0.2 * 0.005, rel=1e-9)
+    new_chain = BoundaryChain(remeshed.mesh)
+    xy = remeshed.mesh.ngmesh.Coordinates()
+    end = new_chain.vertices(END)
+    assert len(end) == 3 and np.allclose(xy[end, 0], 0.6)
+    assert np.isclose(xy[end, 1].max(), 0.005)
+    assert xy[:, 0].max() == pytest.approx(0.6, abs=1e-12)
+    assert polygon_area(xy, new_chain.segments) == pytest.approx(poly.area + 0.001, rel=1e-9)
+    same = remesh(mesh, 0.03, edge, layer_end=0.3, layer_top=0.005)
+    assert same.area_added == 0.0
+    assert same.mesh.ngmesh.Coordinates()[:, 0].max() == pytest.approx(0.4, abs=1e-12)
+    points, labels = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)], [BED, SURFACE, WALL]
+    with pytest.raises(RuntimeError, match="not one"):
+        lengthen_layer(points, labels, 2.0, 0.1)

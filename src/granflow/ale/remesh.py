@@ -68,10 +68,12 @@ class Remeshed:
 
     mesh: ngs.Mesh
     area_restored: float
+    area_added: float = 0.0   # what lengthening an erodible layer added (m^2, or m^3 in r-z)
 
 
 def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
-           measure: PolygonMeasure = AREA) -> Remeshed:
+           measure: PolygonMeasure = AREA, layer_end: float | None = None,
+           layer_top: float = 0.0) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -86,6 +88,8 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     move), so a remesh changes the area only by round-off. ``edge_size(p, q)``, if given,
     is the target length on the boundary edge from p to q (a thin erodible layer).
     ``measure``: what is restored, the area, or the revolved volume in axisymmetry.
+    ``layer_end``, if given, moves the far end of an erodible layer there, the new stretch
+    of layer ``layer_top`` thick (``lengthen_layer``); its size is ``area_added``.
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
@@ -99,12 +103,37 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     pts = np.array(points, dtype=float)
     inner = np.array([i for i in range(n) if edge_labels[i - 1] == edge_labels[i] == SURFACE])
     restored = conserve_area(pts, ring, inner, area, measure=measure) if inner.size else 0.0
+    added = 0.0
+    if layer_end is not None:
+        before = measure.size(pts, ring)
+        points, edge_labels = lengthen_layer([tuple(p) for p in pts], edge_labels, layer_end,
+                                             layer_top)
+        pts, ring = np.array(points, dtype=float), _ring(len(points))
+        added = measure.size(pts, ring) - before
     if segments_intersect(pts, ring):
         raise RuntimeError("the free surface folded through itself and merging close surface "
                            "nodes does not untangle it; cannot remesh")
     points = [tuple(p) for p in pts]
     new = polygon_mesh(points, edge_labels, size, boundary_edge_sizes(points, edge_size))
-    return Remeshed(new, restored)
+    return Remeshed(new, restored, added)
+
+
+def lengthen_layer(points: list[tuple[float, float]], labels: list[str], end_x: float,
+                   top: float) -> tuple[list[tuple[float, float]], list[str]]:
+    """The polygon with its erodible layer's far end (the one ``end`` edge, from its foot on
+    the bed up to the layer's top) moved on to X = ``end_x``: the bed runs on to there, the
+    end rises to ``top`` (the undisturbed layer's thickness) and a free surface comes back
+    to the old top corner. The added stretch is layer at rest, which the old end wall held
+    in place. Unchanged if ``end_x`` is not beyond the old end."""
+    ends = [i for i, label in enumerate(labels) if label == END]
+    if len(ends) != 1:
+        raise RuntimeError(f"the layer's far end is {len(ends)} edges, not one; cannot "
+                           "lengthen the layer")
+    i = ends[0]
+    if end_x <= points[i][0]:
+        return points, labels
+    return ([*points[:i], (end_x, 0.0), (end_x, top), *points[i + 1:]],
+            [*labels[:i], END, SURFACE, *labels[i + 1:]])
 
 
 def _ring(n: int) -> np.ndarray:

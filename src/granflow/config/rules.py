@@ -59,6 +59,10 @@ def problems(c: Config) -> Iterator[str]:
             yield (f"geometry.bed_length = {g.bed_length!r} must be greater than "
                    f"geometry.width = {g.width!r} (the erodible layer must reach beyond the "
                    "column)")
+        if g.erodible_thickness > 0 and 0 < m.layer_ahead < m.size:
+            yield (f"mesh.layer_ahead = {m.layer_ahead!r} must be 0 (the whole layer meshed) "
+                   f"or at least mesh.size = {m.size!r} (the layer is lengthened by at least "
+                   "half of it at a time)")
         if g.erodible_thickness >= g.height:
             yield (f"geometry.erodible_thickness = {g.erodible_thickness!r} must be less than "
                    f"geometry.height = {g.height!r}")
@@ -198,7 +202,7 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
             "boundary.normal_load numerics.eps_friction",
             "the periodic layer has a no-slip bed and no walls")
-        add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells "
+        add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells mesh.layer_ahead "
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
             "surface_tension.gamma0 surface_tension.trigger_angle_deg "
@@ -213,7 +217,7 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("boundary.wall_friction_deg", "geometry.axisymmetric = true: x = 0 is the "
                 "symmetry axis (u_r = 0, no friction), not a wall")
         if g.erodible_thickness == 0:
-            add("geometry.bed_length mesh.layer_cells",
+            add("geometry.bed_length mesh.layer_cells mesh.layer_ahead",
                 "it describes the erodible layer, and geometry.erodible_thickness = 0")
         if c.boundary.channel_width is None:
             add("boundary.side_wall_friction_deg", "boundary.channel_width = none (no side walls)")

@@ -153,6 +153,7 @@ class Mesh(_Section):
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
     failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
     layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
+    layer_ahead: Annotated[float, Field(ge=0, le=1e3)]  # meshed layer ahead of the flow (m)
 
 
 class Numerics(_Section):

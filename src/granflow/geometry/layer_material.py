@@ -95,9 +95,15 @@ class LayerMaterial:
         return self._region[1]
 
     def _build_region(self) -> shapely.Geometry:
-        first, last = self.line[0], self.line[-1]
-        ring = np.vstack([self.line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
-                                      [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
+        """The polygon below the line, without the line's points inside a level run (the
+        layer the flow has not reached: the same region, and ``make_valid`` of a folded
+        line then costs what the folds cost, not the layer's length)."""
+        z = self.line[:, 1]
+        level = np.r_[False, (z[1:-1] == z[:-2]) & (z[1:-1] == z[2:]), False]
+        line = self.line[~level]
+        first, last = line[0], line[-1]
+        ring = np.vstack([line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
+                                 [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
         polygon = shapely.Polygon(ring)
         return polygon if polygon.is_valid else shapely.make_valid(polygon)
 

@@ -24,6 +24,7 @@ from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
     layer_edge_sizes,
+    layer_end,
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures, Table
@@ -118,7 +119,8 @@ def build_column(config: Config) -> ColumnCollapse:
     geo, mat = config.geometry, config.material
     two_materials = layer_material(config) is not None
     polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
-                     geo.erodible_thickness, geo.bed_length, interface=two_materials)
+                     geo.erodible_thickness, layer_end(config, geo.width),
+                     interface=two_materials)
     fine = geo.erodible_thickness / config.mesh.layer_cells
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
                         boundary_edge_sizes(polygon.points, layer_edge_sizes(config)),

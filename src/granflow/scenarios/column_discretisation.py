@@ -65,6 +65,14 @@ def layer_edge_sizes(config: Config) -> EdgeSize | None:
     return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
 
 
+def layer_end(config: Config, moving_x: float) -> float:
+    """Where the meshed erodible layer ends: at geometry.bed_length, or with mesh.layer_ahead
+    > 0 that far ahead of the furthest moving material (at the start, the column's foot),
+    never beyond geometry.bed_length (``ColumnRemesher`` lengthens it as the flow comes)."""
+    geo, ahead = config.geometry, config.mesh.layer_ahead
+    return geo.bed_length if ahead <= 0 else min(geo.bed_length, moving_x + ahead)
+
+
 def coordinates(config: Config) -> Coordinates:
     """Plane strain, or r-z for an axisymmetric column (``fem/measure.py``)."""
     return AXISYMMETRIC if config.geometry.axisymmetric else PLANE

@@ -79,10 +79,26 @@ class LayerTracking:
         if extrapolate:
             rate = (u - solver.before_previous.components[0]) / solver.dt_previous
             u = ngs.CF((u, rate))
-        line = values_at(self.current.mesh, u, self.material.line)
-        markers = values_at(self.current.mesh, u, self.material.markers)
+        line = self._values(u, self.material.line)
+        markers = self._values(u, self.material.markers)
         self.line_velocity, self.marker_velocity = line[:, :2], markers[:, :2]
         self._rates = (line[:, 2:], markers[:, 2:]) if extrapolate else None
+
+    def _values(self, u: ngs.CoefficientFunction, points: np.ndarray) -> np.ndarray:
+        """``u`` at the points; 0 beyond the meshed layer's end (``mesh.layer_ahead``),
+        where the layer is at rest."""
+        out = np.zeros((len(points), u.dim))
+        meshed = points[:, 0] <= self.current.mover.end_x
+        if meshed.any():
+            out[meshed] = values_at(self.current.mesh, u, points[meshed])
+        return out
+
+    def unmeshed(self) -> shapely.Geometry:
+        """The layer at rest beyond the meshed layer's end (``mesh.layer_ahead``)."""
+        end, length = self.current.mover.end_x, self.config.geometry.bed_length
+        if end >= length:
+            return shapely.Polygon()
+        return shapely.box(end, 0.0, length, self.material.thickness)
 
     def __call__(self, sim: Simulation) -> None:
         """After an accepted step (and its remesh): move the layer, sample the new velocity,
@@ -97,9 +113,11 @@ class LayerTracking:
 
     # --- what the outputs read ---------------------------------------------------------
     def domain(self) -> shapely.Geometry:
+        """The material's domain: the mesh's, and the layer at rest beyond its end."""
         xy = self.current.mesh.ngmesh.Coordinates()
         edges = shapely.linestrings(xy[self.current.mover.chain.segments])
-        return shapely.union_all(shapely.get_parts(shapely.polygonize(edges)))
+        meshed = shapely.union_all(shapely.get_parts(shapely.polygonize(edges)))
+        return shapely.union(meshed, self.unmeshed())
 
     def measures(self) -> dict[str, float]:
         """This step's entrainment measures (module docstring)."""

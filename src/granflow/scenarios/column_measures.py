@@ -175,7 +175,8 @@ class ColumnMeasures:
             **({"axis_height_m": front_diag.wall_height(xy)}      # h_inf of a cylinder
                if self.config.geometry.axisymmetric else {}),
             ("initial_volume_m3" if self.config.geometry.axisymmetric else "initial_area_m2"):
-                mover.initial_area,    # what the free-surface fix conserves
+                mover.initial_area - self.remesher.added,   # what the free-surface fix
+                                                            # conserves (less a lengthening)
             "deposited_segments": mover.relabelled_segments,
             "dt_limited_steps": mover.limited_steps,
             "min_triangle_area_m2": float(np.min(signed_areas(mesh))),
@@ -188,6 +189,8 @@ class ColumnMeasures:
             "inertial_number_flowing": (self.inertial.summary()
                                         if self.inertial is not None else None),
             **(self.layer.summary() if self.layer is not None else {}),
+            **({"volume_relative_error": abs(mover.area() / mover.initial_area - 1.0)}
+               if self.remesher.added else {}),   # against the lengthened layer's
         }
 
     def save_state(self) -> dict[str, Any]:

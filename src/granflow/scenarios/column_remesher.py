@@ -1,21 +1,32 @@
 """Remeshing the collapse: when the mesh has degraded, a new mesh of the same boundary
 (``ale/remesh.py``) and the state carried onto it (``ale/transfer.py``: interpolation inside
 the old domain, then a divergence-free projection; the solver takes its own history across,
-``FlowSolver.inherit``). It also keeps the remeshes' record: count, area changes, quality."""
+``FlowSolver.inherit``). It also keeps the remeshes' record: count, area changes, quality.
+
+With ``mesh.layer_ahead`` > 0 an erodible layer is meshed only that far ahead of the moving
+material; when moving material comes within half of it of the layer's end, the remesh
+lengthens the layer (``ale/remesh.lengthen_layer``). The stretch added was at rest behind the
+frictionless end wall, so its state is the one the transfer gives it: the velocity at the old
+end (about 0) and the hydrostatic pressure at the same depth."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.transfer import StateTransfer, transfer_tensor
 from granflow.config import Config
+from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.sampling import vertex_samples
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
     friction_walls,
     layer_edge_sizes,
+    layer_end,
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.simulation.simulation import Simulation
@@ -34,12 +45,29 @@ class ColumnRemesher:
     restored: list[float] = field(default_factory=list)   # area its simplification lost
     unrecorded_change: float = 0.0   # area change of the remeshes since the last diagnostics row
     layer: LayerTracking | None = None   # an erodible layer's tracked material
+    lengthenings: int = 0          # times the meshed layer was lengthened (mesh.layer_ahead)
+    added: float = 0.0             # the layer area (r-z: volume) they added
 
     def needs_remesh(self) -> bool:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
         this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
-        return floor > 0 and float(shape_quality(self.current.mesh).min()) < floor
+        degraded = floor > 0 and float(shape_quality(self.current.mesh).min()) < floor
+        return degraded or self.layer_end_due() is not None
+
+    def layer_end_due(self) -> float | None:
+        """The meshed layer's new end when material faster than the flowing threshold has
+        come within half of mesh.layer_ahead of its end (else None)."""
+        ahead, mover = self.config.mesh.layer_ahead, self.current.mover
+        if ahead <= 0 or mover.end_x >= self.config.geometry.bed_length:
+            return None
+        mesh = self.current.mesh
+        speed = np.linalg.norm(vertex_samples(mesh, self.current.solver.velocity), axis=1)
+        moving = speed > FLOWING_SPEED
+        furthest = float(mesh.ngmesh.Coordinates()[moving, 0].max()) if moving.any() else 0.0
+        if furthest < mover.end_x - 0.5 * ahead:
+            return None
+        return layer_end(self.config, furthest)
 
     def degraded(self) -> bool:
         """Worst triangle below mesh.failure_remesh_quality: a failed nonlinear solve on
@@ -51,10 +79,12 @@ class ColumnRemesher:
         """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it."""
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
         remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
-                          old.mover.measure)
+                          old.mover.measure, layer_end=self.layer_end_due(),
+                          layer_top=self.config.geometry.erodible_thickness)
         new = discretise(self.config, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
-        change = (new.mover.area() - old.mover.area()) / old.mover.initial_area
+        added = remeshed.area_added
+        change = (new.mover.area() - old.mover.area() - added) / old.mover.initial_area
         self.changes.append(change)
         self.restored.append(remeshed.area_restored)
         self.unrecorded_change += change
@@ -62,6 +92,10 @@ class ColumnRemesher:
                                  self.config.boundary.penalty, new.solver.coordinates)
         new.solver.inherit(old.solver, transfer.apply, transfer_tensor)
         new.mover.inherit(old.mover)
+        if added:                         # the free-surface fix conserves the longer layer
+            new.mover.initial_area += added
+            self.lengthenings += 1
+            self.added += added
         self.current.replace(new)
         self.simulation.replace(new.solver, new.mover)
         self.remeshes += 1
@@ -72,15 +106,22 @@ class ColumnRemesher:
         self.unrecorded_change = 0.0
 
     def summary(self) -> dict[str, Any]:
-        return {"remeshes": self.remeshes,
-                "remesh_area_change_max": max(map(abs, self.changes), default=0.0),
-                "remesh_area_restored_max": max(map(abs, self.restored), default=0.0)}
+        out = {"remeshes": self.remeshes,
+               "remesh_area_change_max": max(map(abs, self.changes), default=0.0),
+               "remesh_area_restored_max": max(map(abs, self.restored), default=0.0)}
+        if self.config.mesh.layer_ahead > 0 and self.config.geometry.erodible_thickness > 0:
+            out |= {"layer_lengthenings": self.lengthenings, "layer_added": self.added,
+                    "layer_meshed_end_m": self.current.mover.end_x}
+        return out
 
     def save_state(self) -> dict[str, Any]:
         return {"remeshes": self.remeshes, "fresh_quality": self.fresh_quality,
-                "remesh_changes": list(self.changes), "remesh_restored": list(self.restored)}
+                "remesh_changes": list(self.changes), "remesh_restored": list(self.restored),
+                "layer_lengthened": [self.lengthenings, self.added]}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
         self.changes = list(state["remesh_changes"])
         self.restored = list(state["remesh_restored"])
+        count, added = state.get("layer_lengthened", (0, 0.0))
+        self.lengthenings, self.added = int(count), float(added)
