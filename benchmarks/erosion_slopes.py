@@ -57,7 +57,8 @@ RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same 
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
-            "mesh.layer_cells=2", "mesh.layer_ahead=0.1"]   # benchmarks/layer_ahead.py
+            "mesh.layer_ahead=0.1"]   # benchmarks/layer_ahead.py
+CELLS = 2   # across the layer, unless --cells says otherwise
 COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100"]
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
         "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
@@ -66,7 +67,7 @@ KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
 
 
 def overrides(variant: str, shape: str, he: float, slope: float,
-              rigid_runout: float | None) -> list[str]:
+              rigid_runout: float | None, cells: int = CELLS) -> list[str]:
     """The run's overrides: the variant's, the slope, and for a layer its thickness (the
     column's height above it kept) and its length."""
     own = VARIANTS[variant]
@@ -75,15 +76,15 @@ def overrides(variant: str, shape: str, he: float, slope: float,
     out = [*COMMON, *own, f"geometry.slope_deg={slope!r}"]
     if he > 0:
         length = max(1.0, 1.3 * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
-        out += [*ERODIBLE, f"geometry.erodible_thickness={he!r}",
+        out += [*ERODIBLE, f"mesh.layer_cells={cells}", f"geometry.erodible_thickness={he!r}",
                 f"geometry.height={HEIGHT[shape] + he!r}", f"geometry.bed_length={length!r}"]
     return out
 
 
 def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
-        out: Path) -> dict:
+        out: Path, cells: int = CELLS) -> dict:
     """One run: kept when finished, continued from its checkpoint, else run afresh."""
-    found = overrides(variant, shape, he, slope, rigid)
+    found = overrides(variant, shape, he, slope, rigid, cells)
     summary = run_or_continue(SCENARIO[shape], found, out)
     return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out),
                                                 "overrides": found}
@@ -97,12 +98,13 @@ def runout(row: dict) -> float | None:
 
 
 def table(results: dict[str, dict]) -> str:
-    head = ["variant", "shape", "slope (deg)", "layer (mm)", "runout (m)", "ratio to rigid",
+    head = ["variant", "shape", "slope (deg)", "layer (mm)", "cells", "runout (m)",
+            "ratio to rigid",
             "flow duration (s)", "stop (s)", "displaced layer (m^2)", "erosion depth (mm)",
             "wall time (min)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
-                                                      r["he"])):
+                                                      r["he"], r.get("cells", CELLS))):
         rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
         x, x0 = runout(r), runout(rigid)
         ratio = f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else "-"
@@ -112,6 +114,7 @@ def table(results: dict[str, dict]) -> str:
 
         lines.append("| " + " | ".join([
             r["variant"], r["shape"], f"{r['slope']:g}", f"{1e3 * r['he']:g}",
+            str(r.get("cells", CELLS)) if r["he"] > 0 else "-",
             num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", ratio,
             num(r.get("duration_s"), ".3f"), num(r.get("stop_time_s"), ".3f"),
             num(r.get("layer_displaced_area_m2"), ".2e"),
@@ -132,20 +135,23 @@ def figure(results: dict[str, dict], path: Path) -> None:
         rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
         x, x0 = runout(r), runout(rigid)
         if r["he"] > 0 and x and x0:
-            groups.setdefault((r["variant"], r["shape"], r["he"]), []).append(
+            groups.setdefault((r["variant"], r["shape"], r["he"], r.get("cells", CELLS)),
+                              []).append(
                 (r["slope"], x / x0))
-    for (variant, shape, he), points in sorted(groups.items()):
+    for (variant, shape, he, cells), points in sorted(groups.items()):
         points.sort()
         ax.plot(*zip(*points, strict=True), "o-", ms=3,
-                label=f"{variant}, {shape}, {1e3 * he:g} mm")
+                label=f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cells")
     ax.set(xlabel="slope (deg)", ylabel="runout erodible / rigid",
            title="Erosion and mobility on slopes")
     ax.legend(fontsize=7)
     save_figure(fig, path)
 
 
-def key(variant: str, shape: str, he: float, slope: float) -> str:
-    return f"{variant}/{shape}-{1e3 * he:g}mm-{slope:g}"
+def key(variant: str, shape: str, he: float, slope: float, cells: int = CELLS) -> str:
+    """The run's name (and folder): a layer of other than two cells says how many."""
+    tail = f"-{cells}cells" if he > 0 and cells != CELLS else ""
+    return f"{variant}/{shape}-{1e3 * he:g}mm-{slope:g}{tail}"
 
 
 def rigid_key(variant: str, shape: str, slope: float) -> str:
@@ -162,6 +168,7 @@ def main() -> None:
     parser.add_argument("--beds", nargs="+", default=["rigid", "erodible"],
                         choices=["rigid", "erodible"])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_slopes"))
+    parser.add_argument("--cells", type=int, default=CELLS, help="cells across the layer")
     parser.add_argument("--collect", action="store_true")
     args = parser.parse_args()
     store = args.out / "erosion_slopes.json"
@@ -174,7 +181,7 @@ def main() -> None:
                 for he in beds:
                     if he == 0 and variant in RIGID_TWIN:     # its rigid bed is the twin's
                         continue
-                    name = key(variant, shape, he, slope)
+                    name = key(variant, shape, he, slope, args.cells)
                     folder = args.out / "runs" / name
                     if args.collect:
                         summary = collected(folder)
@@ -184,9 +191,9 @@ def main() -> None:
                             "duration_s": flow_duration(folder)}
                     else:
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
-                        row = run(variant, shape, he, slope, rigid, folder)
+                        row = run(variant, shape, he, slope, rigid, folder, args.cells)
                     results[name] = row | {"variant": variant, "shape": shape,
-                                           "slope": slope, "he": he}
+                                           "slope": slope, "he": he, "cells": args.cells}
                     print(name, json.dumps(results[name]), flush=True)
                     atomic_write_text(store, json.dumps(results, indent=2))
                     atomic_write_text(args.out / "erosion_slopes.md", table(results))
