@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.transfer import StateTransfer, transfer_tensor
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
-from granflow.fem.sampling import vertex_samples
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
@@ -61,8 +61,9 @@ class ColumnRemesher:
         ahead, mover = self.config.mesh.layer_ahead, self.current.mover
         if ahead <= 0 or mover.end_x >= self.config.geometry.bed_length:
             return None
-        mesh = self.current.mesh
-        speed = np.linalg.norm(vertex_samples(mesh, self.current.solver.velocity), axis=1)
+        mesh = self.current.mesh     # u^n at the vertices: its P2 vertex coefficients
+        speed = np.linalg.norm(vertex_values(self.current.solver.previous.components[0]),
+                               axis=1)
         moving = speed > FLOWING_SPEED
         furthest = float(mesh.ngmesh.Coordinates()[moving, 0].max()) if moving.any() else 0.0
         if furthest < mover.end_x - 0.5 * ahead:
