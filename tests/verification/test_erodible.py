@@ -8,6 +8,9 @@ from granflow.config import load_config
 from granflow.diagnostics.state import flowing_cells
 from granflow.fem.sampling import cell_means, triangles
 from granflow.geometry.mesh import END, signed_areas
+from granflow.io.checkpoint import read_checkpoint, write_checkpoint
+from granflow.io.run_dir import RunDir
+from granflow.io.run_state import SimulationState
 from granflow.scenarios.column import build_column
 
 COARSE = ["mesh.size=0.05", "time.dt=1e-3", "numerics.tol=1e-3", "time.output_times=[]",
@@ -68,7 +71,7 @@ def test_short_run_on_a_20_degree_slope() -> None:
     assert fronts[20.0] > fronts[0.0] > 0.2
 
 
-def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run() -> None:
+def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -> None:
     """mesh.layer_ahead = 5 cm: the layer is meshed only ahead of the moving material and
     lengthened as the flow comes (a 10 deg slope, 20 deg friction, 0.15 s, 4 cm cells). The
     front, the erosion front and the displaced layer agree with the whole layer's run within
@@ -96,3 +99,13 @@ def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run() -> None:
     assert abs(a["layer_area_drift"]) < 5e-3
     beyond = ahead.layer.material.origins[:, 0] > ahead.mover.end_x
     assert beyond.sum() > 100 and ahead.layer.material.travel[beyond].max() == 0.0
+    # a checkpoint keeps the lengthened layer: its end, the area the fix conserves, the count
+    run_dir = RunDir.create(tmp_path / "run")
+    write_checkpoint(run_dir, SimulationState(loop=ahead.simulation.save_state(),
+                                              scenario=ahead.save_state(), outputs={}))
+    twin = build_column(load_config("trapezoid-erodible", [*base, "mesh.layer_ahead=0.05"]))
+    twin.restore_state(read_checkpoint(run_dir.root).scenario)
+    assert twin.mover.end_x == ahead.mover.end_x
+    assert twin.mover.initial_area == ahead.mover.initial_area
+    assert (twin.remesher.lengthenings, twin.remesher.added) == (
+        ahead.remesher.lengthenings, ahead.remesher.added)
