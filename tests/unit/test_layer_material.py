@@ -96,3 +96,24 @@ def test_state_round_trip() -> None:
 def test_bad_layer_is_refused() -> None:
     with pytest.raises(ValueError, match="thickness"):
         LayerMaterial.initial(0.0, 1.0, cells=2)
+
+
+def test_a_line_that_crossed_itself_gives_the_union_of_its_loops_and_skips_level_runs() -> None:
+    """A material line does not cross itself, but an advected one can, by a numerical error.
+    A curl of the line inside the layer (right along the top, down, back left, up across the
+    top) turns the same way as the region: the region keeps the curl's inside (the union of
+    the loops; repairing by alternating faces would cut a hole there). The level runs of the
+    untouched layer are dropped from the polygon, not from the line."""
+    material = LayerMaterial.initial(0.01, 1.0, 2)
+    curl = np.array([[0.40, 0.01], [0.46, 0.01], [0.46, 0.005], [0.43, 0.005], [0.43, 0.015],
+                     [0.48, 0.015], [0.48, 0.01]])
+    line = material.line
+    material.line = np.vstack([line[line[:, 0] < 0.40], curl, line[line[:, 0] > 0.48]])
+    assert not shapely.LineString(material.line).is_simple
+    region = material.region()
+    assert region.is_valid
+    inside_curl = shapely.box(0.435, 0.006, 0.455, 0.009)
+    assert shapely.difference(inside_curl, region).area == pytest.approx(0.0, abs=1e-12)
+    layer = shapely.box(0, 0, 1.0, 0.01)
+    assert shapely.difference(layer, region).area == pytest.approx(0.0, abs=1e-12)
+    assert len(shapely.get_coordinates(region)) < 40         # not one point per 2.5 mm

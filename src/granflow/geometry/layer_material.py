@@ -96,8 +96,12 @@ class LayerMaterial:
 
     def _build_region(self) -> shapely.Geometry:
         """The polygon below the line, without the line's points inside a level run (the
-        layer the flow has not reached: the same region, and ``make_valid`` of a folded
-        line then costs what the folds cost, not the layer's length)."""
+        layer the flow has not reached: the same region, and repairing a folded line then
+        costs what the folds cost, not the layer's length). Where the advected line crosses
+        itself (a numerical error: material lines do not cross), the region is the union of
+        the loops (``make_valid``'s "structure" method): the default "linework" method
+        took 12 s a step on a front churned into a thousand crossings, this 0.1 s, the two
+        regions differing by 3.5e-7 of the layer's 2e-2 m^2."""
         z = self.line[:, 1]
         level = np.r_[False, (z[1:-1] == z[:-2]) & (z[1:-1] == z[2:]), False]
         line = self.line[~level]
@@ -105,7 +109,7 @@ class LayerMaterial:
         ring = np.vstack([line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
                                  [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
         polygon = shapely.Polygon(ring)
-        return polygon if polygon.is_valid else shapely.make_valid(polygon)
+        return polygon if polygon.is_valid else shapely.make_valid(polygon, method="structure")
 
     def fractions(self, xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
         """Per triangle, the fraction of its area inside the layer material (exact: the
