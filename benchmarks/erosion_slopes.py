@@ -86,8 +86,12 @@ def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
     """One run: kept when finished, continued from its checkpoint, else run afresh."""
     found = overrides(variant, shape, he, slope, rigid, cells)
     summary = run_or_continue(SCENARIO[shape], found, out)
-    return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out),
-                                                "overrides": found}
+    return row_of(summary, out) | {"overrides": found}
+
+
+def row_of(summary: dict, out: Path) -> dict:
+    """The summary's figures and the flow's duration (below 1 % flowing)."""
+    return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out)}
 
 
 def runout(row: dict) -> float | None:
@@ -187,8 +191,7 @@ def main() -> None:
                         summary = collected(folder)
                         if summary is None:
                             continue
-                        row = {k: summary.get(k) for k in KEYS} | {
-                            "duration_s": flow_duration(folder)}
+                        row = row_of(summary, folder)
                     else:
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
                         row = run(variant, shape, he, slope, rigid, folder, args.cells)

@@ -23,10 +23,8 @@ import argparse
 import json
 from pathlib import Path
 
-from common.runs import run_summary
+from common.runs import distances_mm, run_summary
 
-from granflow.diagnostics.compare import surface_distance
-from granflow.io.profiles import curves
 from granflow.io.run_dir import RunDir, atomic_write_text
 
 CASE = ["boundary.normal_load=reaction", "numerics.mesh_velocity=elastic",
@@ -36,19 +34,6 @@ CASE = ["boundary.normal_load=reaction", "numerics.mesh_velocity=elastic",
 KEYS = ["wall_time_s", "n_triangles", "steps", "nonlinear_iterations", "remeshes",
         "runout_m", "column_front_m", "layer_displaced_area_m2", "layer_area_drift_max",
         "layer_lengthenings", "layer_meshed_end_m", "volume_relative_error"]
-
-
-def distances_mm(first: Path, second: Path, kind: str) -> dict[str, list[float]]:
-    """Mean and largest distance (mm) between two runs' ``kind`` curves at each output time,
-    both cut where the shorter one ends (the free surface of a layer meshed ahead of the
-    flow ends at the meshed end; the whole layer's goes on, flat)."""
-    a, b = curves(first, kind), curves(second, kind)
-    out = {}
-    for t in sorted(set(a) & set(b)):
-        end = min(a[t][:, 0].max(), b[t][:, 0].max())
-        cut = [c[c[:, 0] <= end] for c in (a[t], b[t])]
-        out[f"{t:g}"] = [round(1e3 * d, 2) for d in surface_distance(*cut)]
-    return out
 
 
 def main() -> None:
@@ -75,8 +60,10 @@ def main() -> None:
     for name, r in results.items():
         r["time_ratio"] = r["wall_time_s"] / results[reference]["wall_time_s"]
         if name != reference:
-            r["free_surface_mm"] = distances_mm(roots[reference], roots[name], "free_surface")
-            r["layer_line_mm"] = distances_mm(roots[reference], roots[name], "layer_line")
+            r["free_surface_mm"] = distances_mm(roots[reference], roots[name], "free_surface",
+                                                 common_extent=True)
+            r["layer_line_mm"] = distances_mm(roots[reference], roots[name], "layer_line",
+                                               common_extent=True)
     atomic_write_text(args.out / "layer_ahead.json", json.dumps(results, indent=2))
     lines = [f"Rectangle on 22 deg over a 5 mm layer (mu(I), 2 cells), to t = {args.t_end} s; "
              f"distances from `{reference}` at t = {', '.join(map(str, times))} s "

@@ -52,10 +52,12 @@ def surfaces_m(first: Path, second: Path) -> dict[str, dict[str, float]]:
             for t, (mean, worst) in profiles.surface_distances(first, second).items()}
 
 
-def distances_mm(first: Path, second: Path, kind: str = "free_surface") -> dict[str, list]:
-    """Mean and max distance (mm, 2 decimals) between two runs' ``kind`` curves, by time."""
-    return {f"{t:g}": [round(1e3 * x, 2) for x in d]
-            for t, d in profiles.surface_distances(first, second, kind).items()}
+def distances_mm(first: Path, second: Path, kind: str = "free_surface",
+                 common_extent: bool = False) -> dict[str, list]:
+    """Mean and max distance (mm, 2 decimals) between two runs' ``kind`` curves, by time
+    (``common_extent``: only as far in X as both reach, ``profiles.surface_distances``)."""
+    return {f"{t:g}": [round(1e3 * x, 2) for x in d] for t, d in
+            profiles.surface_distances(first, second, kind, common_extent=common_extent).items()}
 
 
 FINISHED = ("completed", "stopped")

@@ -113,11 +113,21 @@ def curves(root: Path, kind: str,
 
 
 def surface_distances(first: Path, second: Path, kind: str = "free_surface",
-                      times: Sequence[float] | None = None) -> dict[float, tuple[float, float]]:
+                      times: Sequence[float] | None = None,
+                      common_extent: bool = False) -> dict[float, tuple[float, float]]:
     """(mean, max) distance in m between the ``kind`` curves of two runs at each output
-    time both wrote (``diagnostics/compare.py``)."""
+    time both wrote (``diagnostics/compare.py``). With ``common_extent`` both curves are cut
+    where the shorter one ends in X (an erodible layer meshed only ahead of the flow ends
+    its free surface at the meshed end; the whole layer's goes on, flat)."""
     a, b = curves(first, kind, times), curves(second, kind, times)
-    return {t: surface_distance(a[t], b[t]) for t in a if t in b}
+    out = {}
+    for t in (t for t in a if t in b):
+        pair = (a[t], b[t])
+        if common_extent:
+            end = min(a[t][:, 0].max(), b[t][:, 0].max())
+            pair = (a[t][a[t][:, 0] <= end], b[t][b[t][:, 0] <= end])
+        out[t] = surface_distance(*pair)
+    return out
 
 
 def read_profile(path: Path) -> Profile:
