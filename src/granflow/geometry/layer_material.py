@@ -10,6 +10,13 @@ Two Lagrangian records, both carried by the material velocity:
 * a lattice of markers inside the layer, each keeping its origin: what moved, how far and
   from where (eroded area, erosion depth along the bed, deposit coloured by origin).
 
+The line is kept at its resolution ``spacing``: refined where the flow stretches it,
+coarsened where it is compressed, and untangled where the discrete advection made it cross
+itself (material lines do not cross; a churning front folds the line faster than the
+velocity resolves the folds). Untangling keeps the outline of the region the crossing line
+encloses and drops the loops it cuts off; the area both change is added up as the
+correction's size (``surgery_area``).
+
 Neither depends on the mesh, so both cross a remesh untouched: the indicator of the new mesh
 is the same region's fractions. An incompressible flow keeps the region's area; the drift of
 the discrete advection is the conservation error reported by the diagnostics.
@@ -25,6 +32,7 @@ import shapely
 FAR = 1e3   # m: the region is closed this far outside any domain
 ROWS = 4    # rows of lattice markers across the layer
 ROUND_OFF = 1e-12   # a triangle's share of layer material this close to 0 or 1 is 0 or 1
+FLAT = 1e-3         # a point is dropped if the corner it makes holds under FLAT spacing^2
 
 
 @dataclass
@@ -39,6 +47,7 @@ class LayerMaterial:
     spacing: float            # longest segment of the line before it is refined (m)
     thickness: float          # h_e (m)
     marker_area: float        # layer area each lattice marker stands for (m^2)
+    surgery_area: float = 0.0  # area the line's untangling and coarsening changed (m^2)
 
     @classmethod
     def initial(cls, thickness: float, length: float, cells: int) -> LayerMaterial:
@@ -77,12 +86,14 @@ class LayerMaterial:
     def advance(self, line_velocity: np.ndarray, marker_velocity: np.ndarray,
                 dt: float) -> None:
         """Carry the line and the markers over dt (explicit Euler, as the ALE moves the free
-        surface), then refine the line where a segment grew beyond ``spacing``."""
+        surface), then keep the line at its resolution (module docstring)."""
         self.line = self.line + dt * line_velocity
         self.markers = self.markers + dt * marker_velocity
         moved = np.hypot(*(self.markers - self.origins).T)
         self.travel = np.maximum(self.travel, moved)
-        self.line = refined(self.line, self.spacing)
+        line, cut = untangled(refined(self.line, self.spacing))
+        self.line, merged = coarsened(line, self.spacing)
+        self.surgery_area += cut + merged
 
     def region(self) -> shapely.Geometry:
         """The layer material: below the line, closed far outside the domain (valid even
@@ -104,11 +115,7 @@ class LayerMaterial:
         regions differing by 3.5e-7 of the layer's 2e-2 m^2."""
         z = self.line[:, 1]
         level = np.r_[False, (z[1:-1] == z[:-2]) & (z[1:-1] == z[2:]), False]
-        line = self.line[~level]
-        first, last = line[0], line[-1]
-        ring = np.vstack([line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
-                                 [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
-        polygon = shapely.Polygon(ring)
+        polygon = shapely.Polygon(_closed(self.line[~level]))
         return polygon if polygon.is_valid else shapely.make_valid(polygon, method="structure")
 
     def fractions(self, xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
@@ -162,7 +169,7 @@ class LayerMaterial:
     def save_state(self) -> dict[str, np.ndarray | float]:
         return {"line": self.line, "markers": self.markers, "origins": self.origins,
                 "travel": self.travel, "spacing": self.spacing, "thickness": self.thickness,
-                "marker_area": self.marker_area}
+                "marker_area": self.marker_area, "surgery_area": self.surgery_area}
 
     @classmethod
     def from_state(cls, state: dict[str, np.ndarray | float]) -> LayerMaterial:
@@ -170,7 +177,15 @@ class LayerMaterial:
                   for k in ("line", "markers", "origins", "travel")}
         return cls(**arrays, spacing=float(state["spacing"]),         # type: ignore[arg-type]
                    thickness=float(state["thickness"]),               # type: ignore[arg-type]
-                   marker_area=float(state["marker_area"]))           # type: ignore[arg-type]
+                   marker_area=float(state["marker_area"]),           # type: ignore[arg-type]
+                   surgery_area=float(state.get("surgery_area", 0.0)))  # type: ignore[arg-type]
+
+
+def _closed(line: np.ndarray) -> np.ndarray:
+    """The ring of the region below ``line``, closed FAR outside the domain."""
+    first, last = line[0], line[-1]
+    return np.vstack([line, [[last[0] + FAR, last[1]], [last[0] + FAR, -FAR],
+                             [first[0] - FAR, -FAR], [first[0] - FAR, first[1]]]])
 
 
 def _slab_pieces(region: shapely.Polygon, corners: np.ndarray,
@@ -198,3 +213,54 @@ def refined(line: np.ndarray, spacing: float) -> np.ndarray:
             return line
         mids = 0.5 * (line[long] + line[long + 1])
         line = np.insert(line, long + 1, mids, axis=0)
+
+
+def untangled(line: np.ndarray) -> tuple[np.ndarray, float]:
+    """``line`` without self-crossings, and the area that changed: the top of the region the
+    crossing line encloses (the union of its loops, as ``LayerMaterial.region`` reads it),
+    without the pieces of that region detached from the bed or the holes in it. A line
+    that does not cross itself, or whose outline cannot be followed from end to end, is
+    returned as it is (the region then repairs it for the measures)."""
+    polygon = shapely.Polygon(_closed(line))
+    if polygon.is_valid:
+        return line, 0.0
+    parts = shapely.get_parts(shapely.make_valid(polygon, method="structure"))
+    below = shapely.Point(line[0, 0], -0.5 * FAR)
+    main = next((p for p in parts if isinstance(p, shapely.Polygon) and p.contains(below)),
+                None)
+    if main is None:
+        return line, 0.0
+    ring = np.asarray(main.exterior.coords)[:-1]
+    start = np.flatnonzero((ring == [line[0, 0] - FAR, line[0, 1]]).all(axis=1))
+    end = np.flatnonzero((ring == [line[-1, 0] + FAR, line[-1, 1]]).all(axis=1))
+    if len(start) != 1 or len(end) != 1:
+        return line, 0.0
+    n, a, b = len(ring), start[0], end[0]
+    top = next((path for path in ((a + 1 + np.arange((b - a - 1) % n)) % n,
+                                  (a - 1 - np.arange((a - b - 1) % n)) % n)
+                if (ring[path, 1] > -0.5 * FAR).all()), None)
+    if top is None:
+        return line, 0.0
+    cut = sum(p.area for p in parts if p is not main) + sum(
+        shapely.Polygon(hole).area for hole in main.interiors)
+    return ring[top], float(cut)
+
+
+def coarsened(line: np.ndarray, spacing: float) -> tuple[np.ndarray, float]:
+    """``line`` without the points whose neighbours are within ``spacing`` of each other
+    along it and which make a corner of area under FLAT spacing^2 (at most every other
+    point of a run per pass, until none is left), and the area the removals changed."""
+    tolerance, changed = FLAT * spacing**2, 0.0
+    while True:
+        p, q, r = line[:-2], line[1:-1], line[2:]
+        lengths = np.hypot(*(q - p).T) + np.hypot(*(r - q).T)
+        corner = 0.5 * np.abs((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1])
+                              - (r[:, 0] - p[:, 0]) * (q[:, 1] - p[:, 1]))
+        drop = np.flatnonzero((lengths <= spacing) & (corner <= tolerance))
+        if not len(drop):
+            return line, changed
+        run_start = np.r_[True, np.diff(drop) > 1]
+        first = np.maximum.accumulate(np.where(run_start, np.arange(len(drop)), 0))
+        drop = drop[(np.arange(len(drop)) - first) % 2 == 0]
+        changed += float(corner[drop].sum())
+        line = np.delete(line, drop + 1, axis=0)

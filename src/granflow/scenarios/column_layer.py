@@ -194,6 +194,8 @@ class LayerTracking:
             "layer_area_drift": now["layer_area_drift"],
             "layer_area_drift_max": self.largest_drift,
             "layer_line_points": len(self.material.line),
+            # the section's area the line's untangling and coarsening changed, all steps
+            "layer_line_correction_m2": self.material.surgery_area,
         }
 
     def save_state(self) -> dict[str, Any]:
