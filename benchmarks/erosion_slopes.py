@@ -128,27 +128,34 @@ def table(results: dict[str, dict]) -> str:
 
 
 def figure(results: dict[str, dict], path: Path) -> None:
-    """Erodible/rigid runout ratio against slope, one line per variant and thickness, over
-    the experiments' trend (no change below the critical slope, up to +40 % near repose)."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    ax.axhline(1.0, color="0.5", lw=0.8)
-    ax.fill_between([16, 23.5], [1.0, 1.0], [1.0, 1.4], color="0.85",
-                    label="experiments: up to +40 % above ~16 deg")
+    """Erodible/rigid runout ratio against slope over the experiments' trend (no change
+    below the critical slope, up to +40 % near repose): left, each ingredient on the
+    rectangle over 5 mm; right, the layer's thickness and the column's shape."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     groups: dict[tuple, list[tuple[float, float]]] = {}
     for r in results.values():
         rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
         x, x0 = runout(r), runout(rigid)
         if r["he"] > 0 and x and x0:
-            groups.setdefault((r["variant"], r["shape"], r["he"], r.get("cells", CELLS)),
-                              []).append(
-                (r["slope"], x / x0))
+            group = (r["variant"], r["shape"], r["he"], r.get("cells", CELLS))
+            groups.setdefault(group, []).append((r["slope"], x / x0))
     for (variant, shape, he, cells), points in sorted(groups.items()):
+        ingredient = shape == "rectangle" and he == 0.005    # left; right: thickness, shape
+        geometry = variant == "drucker-prager"
+        style = "o-" if cells == 1 else "s--"
         points.sort()
-        ax.plot(*zip(*points, strict=True), "o-", ms=3,
-                label=f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cells")
-    ax.set(xlabel="slope (deg)", ylabel="runout erodible / rigid",
-           title="Erosion and mobility on slopes")
-    ax.legend(fontsize=7)
+        label = f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cell{'s' * (cells > 1)}"
+        for ax, show in zip(axes, (ingredient, geometry), strict=True):
+            if show:
+                ax.plot(*zip(*points, strict=True), style, ms=3, label=label)
+    for ax, title in zip(axes, ("ingredients (rectangle, 5 mm layer)",
+                                "layer thickness and column (Drucker-Prager)"), strict=True):
+        ax.axhline(1.0, color="0.5", lw=0.8)
+        ax.fill_between([16, 23.5], [1.0, 1.0], [1.0, 1.4], color="0.85",
+                        label="experiments: up to +40 % above ~16 deg")
+        ax.set(xlabel="slope (deg)", title=title)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("runout erodible / rigid")
     save_figure(fig, path)
 
 
