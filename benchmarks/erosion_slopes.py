@@ -101,6 +101,12 @@ def runout(row: dict) -> float | None:
     return row.get("runout_m") if settled else None
 
 
+def runouts(results: dict[str, dict], row: dict) -> tuple[float | None, float | None]:
+    """The row's settled runout and that of the rigid bed its ratio is taken against."""
+    rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
+    return runout(row), runout(rigid)
+
+
 def table(results: dict[str, dict]) -> str:
     head = ["variant", "shape", "slope (deg)", "layer (mm)", "cells", "runout (m)",
             "ratio to rigid",
@@ -109,8 +115,7 @@ def table(results: dict[str, dict]) -> str:
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
                                                       r["he"], r.get("cells", CELLS))):
-        rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
-        x, x0 = runout(r), runout(rigid)
+        x, x0 = runouts(results, r)
         ratio = f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else "-"
 
         def num(v: float | None, fmt: str, scale: float = 1.0) -> str:
@@ -138,8 +143,7 @@ def ratio_table(results: dict[str, dict]) -> str:
     for r in results.values():
         if r["he"] == 0:
             continue
-        rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
-        x, x0 = runout(r), runout(rigid)
+        x, x0 = runouts(results, r)
         if x is None:
             front = r.get("runout_m")
             cell = (f"≥ {front:.3f}, moving at {r['t_final']:.1f} s"
@@ -164,8 +168,7 @@ def figure(results: dict[str, dict], path: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     groups: dict[tuple, list[tuple[float, float]]] = {}
     for r in results.values():
-        rigid = results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {})
-        x, x0 = runout(r), runout(rigid)
+        x, x0 = runouts(results, r)
         if r["he"] > 0 and x and x0:
             group = (r["variant"], r["shape"], r["he"], r.get("cells", CELLS))
             groups.setdefault(group, []).append((r["slope"], x / x0))
