@@ -107,6 +107,17 @@ def runouts(results: dict[str, dict], row: dict) -> tuple[float | None, float | 
     return runout(row), runout(rigid)
 
 
+def ratio_bound(results: dict[str, dict], row: dict) -> float | None:
+    """Where the row settled but its rigid twin was still moving at t_end: the ratio to the
+    rigid front then, an upper bound of the ratio (the rigid front only goes further)."""
+    rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
+    x, moving = runout(row), rigid.get("runout_m")
+    if x is None or runout(rigid) is not None or rigid.get("status") != "completed" \
+            or not moving:
+        return None
+    return x / moving
+
+
 def table(results: dict[str, dict]) -> str:
     head = ["variant", "shape", "slope (deg)", "layer (mm)", "cells", "runout (m)",
             "ratio to rigid",
@@ -150,7 +161,9 @@ def ratio_table(results: dict[str, dict]) -> str:
                     if front and r["status"] == "completed"
                     else f"{r['status']} at {r['t_final']:.2f} s")
         else:
-            ratio = f" ({x / x0:.2f})" if x0 else ""
+            bound = ratio_bound(results, r)
+            ratio = (f" ({x / x0:.2f})" if x0 else
+                     f" (≤ {bound:.2f}, rigid moving at t_end)" if bound else "")
             duration = r.get("duration_s")
             cell = f"{x:.3f}{ratio}" + (f", {duration:.2f} s" if duration else "")
         group = (r["variant"], r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
@@ -164,28 +177,38 @@ def ratio_table(results: dict[str, dict]) -> str:
 def figure(results: dict[str, dict], path: Path) -> None:
     """Erodible/rigid runout ratio against slope over the experiments' trend (no change
     below the critical slope, up to +40 % near repose): left, each ingredient on the
-    rectangle over 5 mm; right, the layer's thickness and the column's shape."""
+    rectangle over 5 mm; right, the layer's thickness and the column's shape. An open
+    triangle is an upper bound: the rigid front was still moving at t_end."""
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    groups: dict[tuple, list[tuple[float, float]]] = {}
+    groups: dict[tuple, list[tuple[float, float, bool]]] = {}
     for r in results.values():
         x, x0 = runouts(results, r)
-        if r["he"] > 0 and x and x0:
+        bound = ratio_bound(results, r)
+        if r["he"] > 0 and (x and x0 or bound):
             group = (r["variant"], r["shape"], r["he"], r.get("cells", CELLS))
-            groups.setdefault(group, []).append((r["slope"], x / x0))
+            point = (r["slope"], x / x0, False) if x0 else (r["slope"], bound, True)
+            groups.setdefault(group, []).append(point)
     for (variant, shape, he, cells), points in sorted(groups.items()):
         ingredient = shape == "rectangle" and he == 0.005    # left; right: thickness, shape
         geometry = variant == "drucker-prager"
         style = "o-" if cells == 1 else "s--"
         points.sort()
         label = f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cell{'s' * (cells > 1)}"
+        slopes, ratios, _ = zip(*points, strict=True)
         for ax, show in zip(axes, (ingredient, geometry), strict=True):
             if show:
-                ax.plot(*zip(*points, strict=True), style, ms=3, label=label)
+                line, = ax.plot(slopes, ratios, style, ms=3, label=label)
+                marked = [(s, q) for s, q, b in points if b]
+                if marked:
+                    ax.plot(*zip(*marked, strict=True), "v", ms=7, mfc="none",
+                            color=line.get_color())
     for ax, title in zip(axes, ("ingredients (rectangle, 5 mm layer)",
                                 "layer thickness and column (Drucker-Prager)"), strict=True):
         ax.axhline(1.0, color="0.5", lw=0.8)
         ax.fill_between([16, 23.5], [1.0, 1.0], [1.0, 1.4], color="0.85",
                         label="experiments: up to +40 % above ~16 deg")
+        ax.plot([], [], "v", ms=7, mfc="none", color="0.3",
+                label="upper bound: rigid front still moving at 3 s")
         ax.set(xlabel="slope (deg)", title=title)
         ax.legend(fontsize=7)
     axes[0].set_ylabel("runout erodible / rigid")
