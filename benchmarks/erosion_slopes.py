@@ -127,7 +127,9 @@ def table(results: dict[str, dict]) -> str:
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
                                                       r["he"], r.get("cells", CELLS))):
         x, x0 = runouts(results, r)
-        ratio = f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else "-"
+        bound = ratio_bound(results, r) if r["he"] > 0 else None
+        ratio = (f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else
+                 f"≤ {bound:.3f}" if bound else "-")
 
         def num(v: float | None, fmt: str, scale: float = 1.0) -> str:
             return "-" if v is None else format(scale * v, fmt)
@@ -195,10 +197,10 @@ def figure(results: dict[str, dict], path: Path) -> None:
         points.sort()
         label = f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cell{'s' * (cells > 1)}"
         slopes, ratios, _ = zip(*points, strict=True)
+        marked = [(s, q) for s, q, bound in points if bound]
         for ax, show in zip(axes, (ingredient, geometry), strict=True):
             if show:
                 line, = ax.plot(slopes, ratios, style, ms=3, label=label)
-                marked = [(s, q) for s, q, b in points if b]
                 if marked:
                     ax.plot(*zip(*marked, strict=True), "v", ms=7, mfc="none",
                             color=line.get_color())
