@@ -101,21 +101,18 @@ def runout(row: dict) -> float | None:
     return row.get("runout_m") if settled else None
 
 
-def runouts(results: dict[str, dict], row: dict) -> tuple[float | None, float | None]:
-    """The row's settled runout and that of the rigid bed its ratio is taken against."""
+def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, bool]:
+    """The erodible row's settled runout over its rigid twin's, and whether that is only an
+    upper bound: where the rigid front was still moving at t_end, the ratio to where it was
+    then (it only goes further). None for a rigid row or one not settled."""
     rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
-    return runout(row), runout(rigid)
-
-
-def ratio_bound(results: dict[str, dict], row: dict) -> float | None:
-    """Where the row settled but its rigid twin was still moving at t_end: the ratio to the
-    rigid front then, an upper bound of the ratio (the rigid front only goes further)."""
-    rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
-    x, moving = runout(row), rigid.get("runout_m")
-    if x is None or runout(rigid) is not None or rigid.get("status") != "completed" \
-            or not moving:
-        return None
-    return x / moving
+    x, x0 = runout(row), runout(rigid)
+    if row["he"] == 0 or x is None:
+        return None, False
+    if x0:
+        return x / x0, False
+    moving = rigid.get("runout_m") if rigid.get("status") == "completed" else None
+    return (x / moving, True) if moving else (None, False)
 
 
 def table(results: dict[str, dict]) -> str:
@@ -126,10 +123,9 @@ def table(results: dict[str, dict]) -> str:
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in sorted(results.values(), key=lambda r: (r["variant"], r["shape"], r["slope"],
                                                       r["he"], r.get("cells", CELLS))):
-        x, x0 = runouts(results, r)
-        bound = ratio_bound(results, r) if r["he"] > 0 else None
-        ratio = (f"{x / x0:.3f}" if x and x0 and r["he"] > 0 else
-                 f"≤ {bound:.3f}" if bound else "-")
+        x = runout(r)
+        value, bound = ratio(results, r)
+        shown = "-" if value is None else ("≤ " if bound else "") + f"{value:.3f}"
 
         def num(v: float | None, fmt: str, scale: float = 1.0) -> str:
             return "-" if v is None else format(scale * v, fmt)
@@ -137,7 +133,7 @@ def table(results: dict[str, dict]) -> str:
         lines.append("| " + " | ".join([
             r["variant"], r["shape"], f"{r['slope']:g}", f"{1e3 * r['he']:g}",
             str(r.get("cells", CELLS)) if r["he"] > 0 else "-",
-            num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", ratio,
+            num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", shown,
             num(r.get("duration_s"), ".3f"), num(r.get("stop_time_s"), ".3f"),
             num(r.get("layer_displaced_area_m2"), ".2e"),
             num(r.get("erosion_depth_max_m"), ".1f", 1e3),
@@ -156,18 +152,18 @@ def ratio_table(results: dict[str, dict]) -> str:
     for r in results.values():
         if r["he"] == 0:
             continue
-        x, x0 = runouts(results, r)
+        x = runout(r)
         if x is None:
             front = r.get("runout_m")
             cell = (f"≥ {front:.3f}, moving at {r['t_final']:.1f} s"
                     if front and r["status"] == "completed"
                     else f"{r['status']} at {r['t_final']:.2f} s")
         else:
-            bound = ratio_bound(results, r)
-            ratio = (f" ({x / x0:.2f})" if x0 else
-                     f" (≤ {bound:.2f}, rigid moving at t_end)" if bound else "")
+            value, bound = ratio(results, r)
+            shown = ("" if value is None else f" (≤ {value:.2f}, rigid moving at t_end)"
+                     if bound else f" ({value:.2f})")
             duration = r.get("duration_s")
-            cell = f"{x:.3f}{ratio}" + (f", {duration:.2f} s" if duration else "")
+            cell = f"{x:.3f}{shown}" + (f", {duration:.2f} s" if duration else "")
         group = (r["variant"], r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
         groups.setdefault(group, {})[r["slope"]] = cell
     for (variant, shape, he, cells), row in sorted(groups.items()):
@@ -184,12 +180,10 @@ def figure(results: dict[str, dict], path: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     groups: dict[tuple, list[tuple[float, float, bool]]] = {}
     for r in results.values():
-        x, x0 = runouts(results, r)
-        bound = ratio_bound(results, r)
-        if r["he"] > 0 and (x and x0 or bound):
+        value, bound = ratio(results, r)
+        if value is not None:
             group = (r["variant"], r["shape"], r["he"], r.get("cells", CELLS))
-            point = (r["slope"], x / x0, False) if x0 else (r["slope"], bound, True)
-            groups.setdefault(group, []).append(point)
+            groups.setdefault(group, []).append((r["slope"], value, bound))
     for (variant, shape, he, cells), points in sorted(groups.items()):
         ingredient = shape == "rectangle" and he == 0.005    # left; right: thickness, shape
         geometry = variant == "drucker-prager"
