@@ -1,7 +1,8 @@
-"""Benchmark: the erodible layer's resolution (``mesh.layer_cells`` = cells across it) and
-which of runout, duration and eroded area it has converged.
+"""Benchmark: the erodible layer's resolution (``mesh.layer_cells`` = cells across it,
+``mesh.layer_aspect`` = their length along it over their height) and which of runout,
+duration and eroded area it has converged.
 
-Run: python benchmarks/erosion_layers.py [--cells 2 4 8 16] [--slopes 0]
+Run: python benchmarks/erosion_layers.py [--cells 2 4 8 16] [--aspects 1] [--slopes 0]
          [--scenario trapezoid-erodible] [--set key=value ...]
          [--out benchmarks/results/erosion_layers] [--collect]
 
@@ -10,7 +11,9 @@ steps. A finished run is not run again, one with a checkpoint is resumed
 (``granflow.resume``): rerunning the command continues a study that was stopped.
 ``--collect`` runs nothing and tabulates what is there. OUT/erosion_layers.json holds the
 summaries' figures, OUT/erosion_layers.md the table with each figure's change from the
-previous (coarser) level.
+previous (coarser) level, then every run against the finest isotropic run of its slope (the
+reference) with the accuracy it must keep (ACCURACY: runout 0.5 %, flow duration 1 %,
+displaced and mobilised areas 1 % and 5 %).
 """
 
 from __future__ import annotations
@@ -29,6 +32,15 @@ KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_
         "layer_area_drift", "layer_area_drift_max", "volume_relative_error"]
 COMPARED = ["runout_m", "column_front_m", "duration_s", "stop_time_s",
             "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "layer_area_drift_max"]
+ACCURACY = {"runout_m": 0.005, "duration_s": 0.01, "layer_displaced_area_m2": 0.01,
+            "layer_mobilised_area_max_m2": 0.05}      # relative, against the reference
+
+
+def run_name(slope: float, cells: int, aspect: float) -> str:
+    """OUT/runs/NAME of a level (isotropic runs keep their names)."""
+    return f"slope{slope:g}-cells{cells}" + ("" if aspect == 1 else f"-aspect{aspect:g}")
+
+
 def run_case(scenario: str, overrides: list[str], out: Path) -> dict:
     """The run in ``out``: kept when finished, continued from its checkpoint, else run."""
     summary = run_or_continue(scenario, overrides, out)
@@ -47,10 +59,12 @@ def table(results: dict[str, dict]) -> str:
     head = ["slope (deg)", "layer cells", "triangles", "wall time (s)", "status"] + COMPARED
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     previous: dict | None = None
-    for r in sorted(results.values(), key=lambda r: (r["slope"], r["cells"])):
-        if previous is not None and previous["slope"] != r["slope"]:
+    for r in sorted(results.values(), key=lambda r: (r["slope"], r.get("aspect", 1.0),
+                                                     r["cells"])):
+        if previous is not None and (previous["slope"], previous.get("aspect", 1.0)) != (
+                r["slope"], r.get("aspect", 1.0)):
             previous = None
-        cells = [f"{r['slope']:g}", str(r["cells"]), str(r["n_triangles"]),
+        cells = [f"{r['slope']:g}", _cells(r), str(r["n_triangles"]),
                  f"{r['wall_time_s']:.0f}" if r["wall_time_s"] else "-", r["status"]]
         if r["status"] not in ("completed", "stopped"):     # mid-run figures: not compared
             cells[-1] += f" at t = {r['t_final']:.3f} s"
@@ -68,9 +82,50 @@ def table(results: dict[str, dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _cells(row: dict) -> str:
+    aspect = row.get("aspect", 1.0)
+    return str(row["cells"]) + ("" if aspect == 1 else f" x {aspect:g}")
+
+
+def against_reference(results: dict[str, dict]) -> str:
+    """Markdown: every finished run against the finest isotropic run of its slope, each
+    figure's relative difference and whether it keeps ACCURACY."""
+    head = ["slope (deg)", "layer cells (x aspect)", "triangles", "wall time (s)",
+            *(f"{k} (<= {100 * v:g} %)" for k, v in ACCURACY.items()), "within"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    done = [r for r in results.values() if r["status"] in ("completed", "stopped")]
+    for slope in sorted({r["slope"] for r in done}):
+        rows = [r for r in done if r["slope"] == slope]
+        isotropic = [r for r in rows if r.get("aspect", 1.0) == 1]
+        if not isotropic:
+            continue
+        ref = max(isotropic, key=lambda r: r["cells"])
+        for r in sorted(rows, key=lambda r: (r["cells"], r.get("aspect", 1.0))):
+            if r is ref:
+                continue
+            cells = [f"{slope:g}", _cells(r), str(r["n_triangles"]),
+                     f"{r['wall_time_s']:.0f}" if r["wall_time_s"] else "-"]
+            ok = True
+            for key, tol in ACCURACY.items():
+                value, target = r.get(key), ref.get(key)
+                if value is None or not target:
+                    cells.append("-")
+                    ok = False
+                    continue
+                rel = (value - target) / target
+                ok = ok and abs(rel) <= tol
+                cells.append(f"{100 * rel:+.2f} %")
+            cells.append("yes" if ok else "no")
+            lines.append("| " + " | ".join(cells) + " |")
+        lines.append(f"\nReference: {ref['cells']} isotropic cells at {slope:g} degrees, "
+                     f"{ref['n_triangles']} triangles.\n")
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", type=int, nargs="+", default=[2, 4, 8, 16])
+    parser.add_argument("--aspects", type=float, nargs="+", default=[1.0])
     parser.add_argument("--slopes", type=float, nargs="+", default=[0.0])
     parser.add_argument("--scenario", default="trapezoid-erodible")
     parser.add_argument("--set", dest="overrides", action="append", default=[])
@@ -79,24 +134,26 @@ def main() -> None:
     args = parser.parse_args()
     results_file = args.out / "erosion_layers.json"
     results = json.loads(results_file.read_text()) if results_file.is_file() else {}
-    for slope in args.slopes:
-        for cells in args.cells:
-            name = f"slope{slope:g}-cells{cells}"
-            out = args.out / "runs" / name
-            overrides = [*args.overrides, f"mesh.layer_cells={cells}",
-                         f"geometry.slope_deg={slope!r}", "output.checkpoint_every=100"]
-            if args.collect:
-                summary = collected(out)
-                if summary is None:
-                    continue
-                row = row_of(summary, out, overrides)
-            else:
-                row = run_case(args.scenario, overrides, out)
-            results[name] = row | {"slope": slope, "cells": cells}
-            print(name, json.dumps(results[name]), flush=True)
-            atomic_write_text(results_file, json.dumps(results, indent=2))
-            atomic_write_text(args.out / "erosion_layers.md", table(results))
-    print(table(results))
+    levels = [(s, c, a) for s in args.slopes for a in args.aspects for c in args.cells]
+    for slope, cells, aspect in levels:
+        name = run_name(slope, cells, aspect)
+        out = args.out / "runs" / name
+        overrides = [*args.overrides, f"mesh.layer_cells={cells}",
+                     f"mesh.layer_aspect={aspect!r}",
+                     f"geometry.slope_deg={slope!r}", "output.checkpoint_every=100"]
+        if args.collect:
+            summary = collected(out)
+            if summary is None:
+                continue
+            row = row_of(summary, out, overrides)
+        else:
+            row = run_case(args.scenario, overrides, out)
+        results[name] = row | {"slope": slope, "cells": cells, "aspect": aspect}
+        print(name, json.dumps(results[name]), flush=True)
+        atomic_write_text(results_file, json.dumps(results, indent=2))
+        atomic_write_text(args.out / "erosion_layers.md",
+                          table(results) + "\n" + against_reference(results))
+    print(table(results) + "\n" + against_reference(results))
 
 
 if __name__ == "__main__":

@@ -23,15 +23,18 @@ from granflow.ale.free_surface import (
 )
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh
+from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
 FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
 
 
-def shape_quality(mesh: ngs.Mesh) -> np.ndarray:
-    """4 sqrt(3) area / (sum of squared edge lengths): 1 equilateral, 0 flat or inverted."""
-    xy = mesh.ngmesh.Coordinates()
+def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarray:
+    """4 sqrt(3) area / (sum of squared edge lengths): 1 equilateral, 0 flat or inverted;
+    measured in the coordinates the mesh was made in (``stretch``: a stretched layer's
+    cells are as good as isotropic ones there)."""
+    xy = stretch.forward(mesh.ngmesh.Coordinates())
     p = xy[triangles(mesh)]
     e = np.roll(p, -1, axis=1) - p
     area = 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
@@ -73,7 +76,7 @@ class Remeshed:
 
 def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
            measure: PolygonMeasure = AREA, layer_end: float | None = None,
-           layer_top: float = 0.0) -> Remeshed:
+           layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -90,6 +93,8 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     ``measure``: what is restored, the area, or the revolved volume in axisymmetry.
     ``layer_end``, if given, moves the far end of an erodible layer there, the new stretch
     of layer ``layer_top`` thick (``lengthen_layer``); its size is ``area_added``.
+    ``stretch``: the layer's cells stretched along it, as the first mesh made them
+    (``edge_size`` then gives lengths in the stretched coordinates).
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
@@ -114,7 +119,8 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
         raise RuntimeError("the free surface folded through itself and merging close surface "
                            "nodes does not untangle it; cannot remesh")
     points = [tuple(p) for p in pts]
-    new = polygon_mesh(points, edge_labels, size, boundary_edge_sizes(points, edge_size))
+    new = polygon_mesh(points, edge_labels, size, boundary_edge_sizes(points, edge_size),
+                       stretch=stretch)
     return Remeshed(new, restored, added)
 
 

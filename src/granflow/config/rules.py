@@ -120,7 +120,8 @@ def estimated_triangles(c: Config) -> tuple[float, float]:
     layer = 0.0
     if g.erodible_thickness > 0:
         fine = g.erodible_thickness / m.layer_cells
-        layer = g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
+        layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
+                 / m.layer_aspect)
     return area / 0.433 / m.size / m.size, layer
 
 
@@ -203,6 +204,7 @@ def inert_keys(c: Config) -> dict[str, str]:
             "boundary.normal_load numerics.eps_friction",
             "the periodic layer has a no-slip bed and no walls")
         add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells mesh.layer_ahead "
+            "mesh.layer_aspect "
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
             "surface_tension.gamma0 surface_tension.trigger_angle_deg "
@@ -217,7 +219,7 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("boundary.wall_friction_deg", "geometry.axisymmetric = true: x = 0 is the "
                 "symmetry axis (u_r = 0, no friction), not a wall")
         if g.erodible_thickness == 0:
-            add("geometry.bed_length mesh.layer_cells mesh.layer_ahead",
+            add("geometry.bed_length mesh.layer_cells mesh.layer_ahead mesh.layer_aspect",
                 "it describes the erodible layer, and geometry.erodible_thickness = 0")
         if c.boundary.channel_width is None:
             add("boundary.side_wall_friction_deg", "boundary.channel_width = none (no side walls)")
@@ -246,4 +248,7 @@ def inert_keys(c: Config) -> dict[str, str]:
             and c.numerics.initial_guess != "auto"):
         add("numerics.initial_guess", "Newton and the hybrid start from the extrapolated "
             "state unless it is 'auto'")
+    if c.numerics.linearization == "newton" or c.numerics.method != "regularized":
+        add("numerics.anderson_depth", "it accelerates the fixed-point iteration (3.2), "
+            "which numerics.linearization = 'newton' and the augmented Lagrangian do not run")
     return out

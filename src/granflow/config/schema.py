@@ -153,6 +153,7 @@ class Mesh(_Section):
     remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # column: also remesh below; 0 = off
     failure_remesh_quality: Annotated[float, Field(ge=0, lt=1)]  # remesh a failed solve below
     layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
+    layer_aspect: Annotated[float, Field(ge=1, le=32)]  # their length along it / across it
     layer_ahead: Annotated[float, Field(ge=0, le=1e3)]  # meshed layer ahead of the flow (m)
 
 
@@ -170,6 +171,7 @@ class Numerics(_Section):
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
     linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
     initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
+    anderson_depth: Annotated[int, Field(ge=0, le=10)]  # Anderson mixing of (3.2); 0 = off
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
     al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
 

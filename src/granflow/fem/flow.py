@@ -60,7 +60,8 @@ class FlowSolver:
                  surface_tension_on: str | None = None,
                  side_walls: SideWallFriction | None = None,
                  augmentation: float | None = None, scheme: str = "implicit-euler",
-                 coordinates: Coordinates = PLANE, axis: str = "") -> None:
+                 coordinates: Coordinates = PLANE, axis: str = "",
+                 anderson_depth: int = 0) -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -110,7 +111,7 @@ class FlowSolver:
             picard=picard,
             newton=ResidualSystem(residual_form(self.space, self.terms, coordinates), freedofs,
                                   linear_solver),
-            state=self.solution, dual=dual)
+            state=self.solution, dual=dual, anderson_depth=anderson_depth)
         self.augmented = (None if augmentation is None else AugmentedLagrangian(
             rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
 

@@ -13,7 +13,9 @@ import math
 from typing import TYPE_CHECKING
 
 import ngsolve as ngs
+import numpy as np
 
+from granflow.fem.anderson import Anderson
 from granflow.fem.linalg import ReusableLU
 from granflow.simulation.outcomes import IterationReport
 
@@ -132,7 +134,8 @@ class NonlinearSolver:
     """Picard (3.2) and damped Newton on ``state`` (the iterate, overwritten in place)."""
 
     def __init__(self, picard: FixedPointSystem, newton: ResidualSystem,
-                 state: ngs.GridFunction, dual: DualVariable | None = None) -> None:
+                 state: ngs.GridFunction, dual: DualVariable | None = None,
+                 anderson_depth: int = 0) -> None:
         self.picard_system, self.newton_system, self.state = picard, newton, state
         self.dual = dual
         self._saved = state.vec.CreateVector()
@@ -144,6 +147,13 @@ class NonlinearSolver:
         vec = state.vec
         self._r, self._delta, self._bar = vec.CreateVector(), vec.CreateVector(), vec.CreateVector()
         self._trial, self._work = vec.CreateVector(), vec.CreateVector()
+        self.anderson = Anderson(anderson_depth, self._weighted) if anderson_depth else None
+
+    def _weighted(self, values: np.ndarray) -> np.ndarray:
+        """M v for the velocity L2 inner product of ``velocity_l2`` (numpy in and out)."""
+        self._bar.FV().NumPy()[:] = values
+        self._work.data = self._mass.mat * self._bar
+        return self._work.FV().NumPy().copy()
 
     def reset_factorisations(self) -> None:
         """Forget the symbolic LUs (the sparsity pattern changed)."""
@@ -205,6 +215,9 @@ class NonlinearSolver:
         x, system, dual = self.state.vec, self.picard_system, self.dual
         change = previous = math.inf
         mode, banned, used, start_change = "plain", False, 0, math.inf
+        anderson = self.anderson
+        if anderson is not None:
+            anderson.reset()
         for k in range(1, iterations + 1):
             norm_old = max(self._l2(x), floor)
             corrected = mode == "corrected"
@@ -216,6 +229,7 @@ class NonlinearSolver:
             if mode != "plain":
                 dual.update(self._trial)
             self._delta.data = self._trial - x
+            before = x.FV().NumPy().copy() if anderson is not None and mode == "plain" else None
             x.data = self._trial
             previous, change = change, self._relative(self._l2(self._delta), norm_old)
             if mode == "seeding":               # a plain iterate: the round starts here
@@ -240,6 +254,11 @@ class NonlinearSolver:
             if (dual is not None and mode == "plain" and not banned
                     and k >= PRIMAL_DUAL_AFTER and _slow(change, previous, tol)):
                 mode = "seeding"
+            if anderson is not None:
+                if mode == "plain" and before is not None:   # mix the next plain iterate
+                    x.FV().NumPy()[:] = anderson.mix(before, x.FV().NumPy())
+                else:
+                    anderson.reset()
         return change
 
     # --- hybrid ---------------------------------------------------------------------------

@@ -12,6 +12,8 @@ from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
+from granflow.geometry.stretch import ISOTROPIC, LayerStretch
+
 BED, WALL, SURFACE, END = "bed", "wall", "surface", "end"
 LABELS = (BED, WALL, SURFACE, END)
 INTERIOR = "interior"   # a line inside the domain the mesh follows (not a boundary)
@@ -45,7 +47,8 @@ def signed_areas(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray
 
 def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
                  size: float, edge_sizes: Sequence[float] | None = None,
-                 interior: Sequence[tuple[int, int, float]] = ()) -> ngs.Mesh:
+                 interior: Sequence[tuple[int, int, float]] = (),
+                 stretch: LayerStretch = ISOTROPIC) -> ngs.Mesh:
     """Netgen triangulation of a labelled polygon, without corner triangles.
 
     ``edge_sizes[i]`` (default ``size``) is the target length on edge i, from which Netgen
@@ -53,10 +56,19 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     lines (point i, point j, edge length) the triangles must not cross (the initial
     interface of two materials). A triangle with two boundary edges flattens when the
     overturning front lands on the bed; such corner triangles are removed by flipping
-    their interior edge.
+    their interior edge. With ``stretch``, the polygon is meshed in its stretched
+    coordinates (``geometry/stretch.py``), where sizes are given, and mapped back: cells
+    along a thin layer come out long and flat.
     """
     geo = SplineGeometry()
-    ids = [geo.AppendPoint(x, y) for x, y in points]
+    split, edge = stretch.split(np.asarray(points, dtype=float))
+    if len(split) > len(points):   # an edge crossing the layer's top: split there
+        labels = [labels[k] for k in edge]
+        edge_sizes = None if edge_sizes is None else [edge_sizes[k] for k in edge]
+        renumber = {int(k): int(np.flatnonzero(edge == k)[0]) for k in np.unique(edge)}
+        interior = [(renumber[i], renumber[j], h) for i, j, h in interior]
+    mapped = stretch.forward(split)
+    ids = [geo.AppendPoint(float(x), float(y)) for x, y in mapped]
     for i, label in enumerate(labels):
         local = {} if edge_sizes is None else {"maxh": min(size, edge_sizes[i])}
         geo.Append(["line", ids[i], ids[(i + 1) % len(ids)]], bc=label,
@@ -74,6 +86,13 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     seg_labels = [lab for lab in seg_labels if lab != INTERIOR]
     tri = flip_corner_triangles(xy, tri)
     xy, tri, segments, seg_labels = collapse_flat_corners(xy, tri, segments, seg_labels)
+    if not stretch.identity:
+        xy = stretch.inverse(xy)
+        p = xy[tri]
+        e = np.roll(p, -1, axis=1) - p
+        if np.any(e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0] <= 0):
+            raise RuntimeError("a triangle inverted when mapped back from the stretched "
+                               "layer's coordinates; try a smaller mesh.layer_aspect")
     return build_mesh(xy, tri, segments, seg_labels)
 
 

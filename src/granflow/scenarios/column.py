@@ -23,8 +23,10 @@ from granflow.physics.well_posedness import well_posed_window
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
+    layer_cell_size,
     layer_edge_sizes,
     layer_end,
+    layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures, Table
@@ -121,10 +123,11 @@ def build_column(config: Config) -> ColumnCollapse:
     polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
                      geo.erodible_thickness, layer_end(config, geo.width),
                      interface=two_materials)
-    fine = geo.erodible_thickness / config.mesh.layer_cells
+    fine = layer_cell_size(config) if geo.erodible_thickness > 0 else config.mesh.size
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
                         boundary_edge_sizes(polygon.points, layer_edge_sizes(config)),
-                        interior=[(i, j, fine) for i, j in polygon.interior])
+                        interior=[(i, j, fine) for i, j in polygon.interior],
+                        stretch=layer_stretch(config))
     current = discretise(config, mesh)
     layer = LayerTracking.start(config, current) if geo.erodible_thickness > 0 else None
     if layer is not None:

@@ -22,6 +22,7 @@ from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, SURFACE, WALL
+from granflow.geometry.stretch import LayerStretch
 from granflow.physics import CoulombFriction, Rheology, gravity_vector
 from granflow.physics.regions import TwoMaterials, blend
 from granflow.scenarios.materials import (
@@ -54,14 +55,28 @@ class ColumnDiscretisation:
                 self.mesh.ngmesh.Coordinates(), triangles(self.mesh))
 
 
+def layer_stretch(config: Config) -> LayerStretch:
+    """The erodible layer's cells mesh.layer_aspect times longer along the bed than across
+    it (``geometry/stretch.py``; 1, or no layer: isotropic)."""
+    return LayerStretch(config.geometry.erodible_thickness, config.mesh.layer_aspect)
+
+
+def layer_cell_size(config: Config) -> float:
+    """The edge length, in the stretched coordinates the mesh is made in, that gives the
+    layer mesh.layer_cells cells across: h_e / layer_cells, times mesh.layer_aspect."""
+    fine = config.geometry.erodible_thickness / config.mesh.layer_cells
+    return min(layer_stretch(config).length(fine), config.mesh.size)
+
+
 def layer_edge_sizes(config: Config) -> EdgeSize | None:
     """Over an erodible layer of thickness h_e: edges lying within 2 h_e of the bed get
-    length h_e / mesh.layer_cells (the bed, the layer's top and its end), so that the
-    layer has that many cells across; Netgen grades the rest up to mesh.size."""
-    he, cells = config.geometry.erodible_thickness, config.mesh.layer_cells
+    the layer's cell size (``layer_cell_size``: the bed, the layer's top and its end), so
+    that the layer has mesh.layer_cells cells across; Netgen grades the rest up to
+    mesh.size."""
+    he = config.geometry.erodible_thickness
     if he <= 0:
         return None
-    fine, size = he / cells, config.mesh.size
+    fine, size = layer_cell_size(config), config.mesh.size
     return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
 
 
@@ -110,7 +125,8 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         side_walls=build_side_walls(config),
                         augmentation=augmentation(config),
                         scheme=config.time.scheme, coordinates=coordinates(config),
-                        axis=WALL if geo.axisymmetric else "")
+                        axis=WALL if geo.axisymmetric else "",
+                        anderson_depth=num.anderson_depth)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg) if st.enabled else None)

@@ -180,7 +180,7 @@ class ColumnMeasures:
             "deposited_segments": mover.relabelled_segments,
             "dt_limited_steps": mover.limited_steps,
             "min_triangle_area_m2": float(np.min(signed_areas(mesh))),
-            "min_triangle_quality": float(np.min(shape_quality(mesh))),
+            "min_triangle_quality": float(np.min(shape_quality(mesh, self.remesher.stretch))),
             **self.remesher.summary(),
             "area_correction_total": mover.correction_abs,   # sum of |relative fixes|
             "area_correction_net": mover.correction_net,     # their signed sum

@@ -21,12 +21,14 @@ from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.transfer import StateTransfer, transfer_tensor
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.geometry.stretch import LayerStretch
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
     friction_walls,
     layer_edge_sizes,
     layer_end,
+    layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.simulation.simulation import Simulation
@@ -48,11 +50,17 @@ class ColumnRemesher:
     lengthenings: int = 0          # times the meshed layer was lengthened (mesh.layer_ahead)
     added: float = 0.0             # the layer area (r-z: volume) they added
 
+    @property
+    def stretch(self) -> LayerStretch:
+        """The layer's stretched cells (``geometry/stretch.py``): kept by every remesh, and
+        the coordinates in which the mesh's quality is measured."""
+        return layer_stretch(self.config)
+
     def needs_remesh(self) -> bool:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
         this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
-        degraded = floor > 0 and float(shape_quality(self.current.mesh).min()) < floor
+        degraded = floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
         return degraded or self.layer_end_due() is not None
 
     def layer_end_due(self) -> float | None:
@@ -74,14 +82,15 @@ class ColumnRemesher:
         """Worst triangle below mesh.failure_remesh_quality: a failed nonlinear solve on
         this mesh is answered by a remesh before a smaller step."""
         floor = self.config.mesh.failure_remesh_quality
-        return floor > 0 and float(shape_quality(self.current.mesh).min()) < floor
+        return floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
 
     def remesh(self) -> None:
         """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it."""
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
         remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
                           old.mover.measure, layer_end=self.layer_end_due(),
-                          layer_top=self.config.geometry.erodible_thickness)
+                          layer_top=self.config.geometry.erodible_thickness,
+                          stretch=self.stretch)
         new = discretise(self.config, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
         added = remeshed.area_added
@@ -100,7 +109,7 @@ class ColumnRemesher:
         self.current.replace(new)
         self.simulation.replace(new.solver, new.mover)
         self.remeshes += 1
-        self.fresh_quality = float(shape_quality(new.mesh).min())
+        self.fresh_quality = float(shape_quality(new.mesh, self.stretch).min())
 
     def recorded(self) -> None:
         """A diagnostics row has reported the area change of the remeshes so far."""

@@ -162,7 +162,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
                         linear_solver=direct_solver(config.numerics.linear_solver),
                         initial_guess=config.numerics.initial_guess,
                         augmentation=augmentation(config),
-                        scheme=config.time.scheme)
+                        scheme=config.time.scheme,
+                        anderson_depth=config.numerics.anderson_depth)
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
