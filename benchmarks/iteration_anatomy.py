@@ -19,6 +19,7 @@ import json
 import statistics
 import time
 from collections import Counter
+from collections.abc import Callable
 from pathlib import Path
 
 import ngsolve as ngs
@@ -36,6 +37,7 @@ class Probe:
     def __init__(self, layer_top: float, velocity_floor: float) -> None:
         self.layer_top, self.velocity_floor = layer_top, velocity_floor
         self.iterations: list[dict] = []
+        self.dump: Callable[[], None] = lambda: None   # called every 200 iterations
         self.step = 0
         original = nonlinear.FixedPointSystem.iterate
         probe = self
@@ -69,6 +71,8 @@ class Probe:
             "change": float(np.sqrt(total)) / max(norm, floor),
             "layer_share": float(per_cell[in_layer].sum() / total) if total > 0 else 0.0,
             "worst_x": float(centroid[worst, 0]), "worst_z": float(centroid[worst, 1])})
+        if len(self.iterations) % 200 == 0:
+            self.dump()
 
 
 def main() -> None:
@@ -94,7 +98,7 @@ def main() -> None:
     problem = build_problem(config)
     sim = problem.simulation
     steps: list[dict] = []
-    last = {"remeshes": 0, "tension": False}
+    last: dict = {"remeshes": 0, "tension": False, "gamma": None, "fraction": None}
 
     def observe(s: object) -> None:
         tension = problem.mover.tension
@@ -106,12 +110,26 @@ def main() -> None:
             events.append("remesh")
         if on != last["tension"]:
             events.append("tension on" if on else "tension off")
-        last.update(remeshes=count, tension=on)
+        gamma = problem.solver.surface_tension.vec.FV().NumPy().copy()
+        before = last["gamma"]
+        jump = (float(np.abs(gamma - before).max()) if before is not None
+                and len(before) == len(gamma) and "remesh" not in events else None)
+        share = getattr(getattr(problem, "current", None), "fraction", None)
+        fraction = share.vec.FV().NumPy().copy() if share is not None else None
+        shift = (float(np.abs(fraction - last["fraction"]).max()) if fraction is not None
+                 and last["fraction"] is not None and len(fraction) == len(last["fraction"])
+                 and "remesh" not in events else None)
+        last.update(remeshes=count, tension=on, gamma=gamma, fraction=fraction)
         report = sim.last_report
         steps.append({"step": sim.step, "t": sim.t, "dt": sim.dt,
                       "iterations": report.iterations if report else 0, "events": events,
-                      "tension": on, "rejected_so_far": sim.rejected_steps})
+                      "tension": on, "rejected_so_far": sim.rejected_steps,
+                      "gamma_max": float(np.abs(gamma).max()), "gamma_jump": jump,
+                      "fraction_jump": shift})
         probe.step = sim.step
+
+    probe.dump = lambda: write(args.out, {"partial": True, "steps_record": steps,
+                                          "iterations_record": probe.iterations})
 
     sim.observers = [*sim.observers, observe]
     start = time.perf_counter()
@@ -143,14 +161,19 @@ def main() -> None:
               f"{statistics.median(shares):.2f}; iterations whose change is mostly in the "
               f"layer: {sum(s > 0.5 for s in shares) / len(shares):.1%}")
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out, json.dumps({
+    write(args.out, {
         "scenario": args.scenario, "overrides": args.overrides, "status": result.status,
         "t_final": result.t_final, "steps": result.steps,
         "nonlinear_iterations": result.nonlinear_iterations,
         "rejected_steps": result.rejected_steps, "rejections": result.rejections,
         "wall_time_s": wall, "window": args.window,
         "by_event": {k: {"steps": count[k], "iterations": cost[k]} for k in cost},
-        "steps_record": steps, "iterations_record": probe.iterations}, indent=1))
+        "steps_record": steps, "iterations_record": probe.iterations})
+
+
+def write(out: Path, result: dict) -> None:
+    """The record as JSON (also called while the run goes on, every 50 steps)."""
+    atomic_write_text(out, json.dumps(result, indent=1))
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ from granflow.converge import (
     ConvergeError,
     Study,
     analyse,
+    format_table,
     level_overrides,
     observed_order,
     orders,
@@ -212,3 +213,52 @@ def test_a_tiny_study_end_to_end_then_a_rerun_skips_it(granflow_cli, tmp_path: P
     assert again.returncode == 0 and "2 of 2 runs already finished, skipped" in again.stdout
     other = granflow_cli("converge", *case, "--set", "mesh.size=0.04", "--out", "out")
     assert other.returncode == 2 and "holds a run of another configuration" in other.stderr
+
+
+# ------------------------------------------------------------------ a tightened parameter
+
+
+def test_tolerance_and_rest_levels_tighten_their_parameters() -> None:
+    config = load_config("rectangle-rigid", ["numerics.tol=1e-3"])
+    tols = [level_overrides(config, "tolerance", k)["numerics.tol"] for k in range(5)]
+    assert tols == pytest.approx([1e-3, 3.162e-4, 1e-4, 3.162e-5, 1e-5])
+    t = config.time
+    assert level_overrides(config, "rest", 2) == pytest.approx({
+        "time.rest_fraction": t.rest_fraction / 4, "time.rest_duration": 4 * t.rest_duration})
+    ramp = load_config("rectangle-rigid", ["time.adaptive=false", "numerics.tol=1e-4"])
+    assert level_overrides(ramp, "tolerance", 0)["numerics.tol_init"] == pytest.approx(
+        min(ramp.numerics.tol_init, 1e-4))
+
+
+def test_each_tolerance_level_is_judged_against_the_tightest(tmp_path: Path) -> None:
+    """Levels 0..3 against level 3: level 0 is 6 mm off in runout (> 5 mm), levels 1 and
+    2 within every tolerance, so level 1 is the loosest that stays within them."""
+    study = Study("rectangle-rigid", "tolerance", 4, ("numerics.tol=1e-3",))
+    runs = study.runs()
+    for k, (runout, shift) in enumerate([(0.316, 5e-4), (0.3115, 2e-4), (0.3102, 1e-4),
+                                         (0.310, 0.0)]):
+        write_level(tmp_path / f"level-{k}", 0.8, runout, shift)
+    report = analyse(study, tmp_path, runs)
+    assert [j["converged"] for j in report.against_reference] == [False, True, True]
+    assert report.loosest == 1
+    text = format_table(report)
+    assert "loosest within the tolerances of the reference: level 1 (numerics.tol = " \
+           "0.0003162)" in text
+    assert "level 0 (numerics.tol = 0.001) against the reference: not within: runout" in text
+    write_report(tmp_path, report)
+    assert json.loads((tmp_path / "converge.json").read_text())["loosest_level"] == 1
+
+
+def test_a_tiny_tolerance_study_end_to_end(granflow_cli, tmp_path: Path) -> None:
+    """Three tolerances on a coarse column: the report judges each against the tightest
+    and names the loosest within the tolerances."""
+    case = ["trapezoid-rigid", "--in", "tolerance", "--levels", "3", "--set",
+            "numerics.tol=1e-3", "--set", "time.t_end=0.05", "--set", "mesh.size=0.06",
+            "--set", "time.output_times=[0.05]"]
+    done = granflow_cli("converge", *case, "--workers", "1", "--out", "out", "--quiet")
+    assert done.returncode in (0, 1), done.stderr
+    assert "loosest within the tolerances of the reference: level" in done.stdout
+    saved = json.loads((tmp_path / "out" / "converge.json").read_text())
+    assert [lv["overrides"]["numerics.tol"] for lv in saved["levels"]] == pytest.approx(
+        [1e-3, 3.162e-4, 1e-4])
+    assert len(saved["against_reference"]) == 2

@@ -80,17 +80,14 @@ def run_or_continue(scenario: str, overrides: list[str], out: Path) -> dict:
 
 
 def flow_duration(root: Path, fraction: float = 0.01) -> float | None:
-    """When the flow ends: the first time after the flowing area's peak at which less than
-    ``fraction`` of it flows (diagnostics.csv). Less fragile than the rest rule's stop time,
-    which a thin front creeping about its 0.1 % threshold can delay by tenths of a second."""
+    """When the flow ends, from diagnostics.csv (``granflow.diagnostics.front``)."""
+    from granflow.diagnostics.front import flow_duration as duration
     from granflow.io.diagnostics import read_diagnostics
 
     diag = read_diagnostics(root)
     if not len(diag):
         return None
-    flowing = diag["flowing_fraction"].to_numpy()
-    after = flowing[flowing.argmax():] < fraction
-    return float(diag["t"].to_numpy()[flowing.argmax() + after.argmax()]) if after.any() else None
+    return duration(diag["t"].to_numpy(), diag["flowing_fraction"].to_numpy(), fraction)
 
 
 def collected(out: Path) -> dict | None:

@@ -6,7 +6,8 @@
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
     granflow plot RUN_DIR
     granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
-    granflow converge SCENARIO|FILE [--in time|space|both] [--levels N] [--set key=value ...]
+    granflow converge SCENARIO|FILE [--in time|space|both|tolerance|rest] [--levels N]
+                      [--set key=value ...]
                       [--tolerances NAME=VALUE,...] [--scheduler ADDRESS] [--workers N]
                       [--out DIR]
     granflow verify plug-flow [--table 1|2] [--cells quick|all] [--out DIR] [--quiet]
@@ -39,6 +40,7 @@ from granflow.converge import (
     MAX_LEVELS,
     MIN_LEVELS,
     MODES,
+    OPTIONAL_TOLERANCES,
     TOLERANCE_MEANING,
     ConvergeError,
     parse_tolerances,
@@ -153,15 +155,23 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run a case at levels k = 0..N-1, each refined by 2^k in time (the step\n"
                     "halves per level), space (mesh.size halves; an erodible layer gets twice\n"
-                    "the mesh.layer_cells) or both, on Dask: one run directory per level,\n"
-                    "rerunning skips finished levels. Compare consecutive levels (stop time,\n"
-                    "runout, free surfaces at the common output times), fit the observed\n"
-                    "orders, write converge.csv, converge.json and converge.png. Exit code 0\n"
-                    "when the finest two levels agree within the tolerances, 1 when not.",
+                    "the mesh.layer_cells) or both, or with a tighter numerical parameter:\n"
+                    "tolerance (numerics.tol / sqrt(10) per level) or rest (the rest rule's\n"
+                    "time.rest_fraction halved, time.rest_duration doubled), on Dask: one run\n"
+                    "directory per level, rerunning skips finished levels. Compare\n"
+                    "consecutive levels (stop time, runout, free surfaces at the common output\n"
+                    "times, an erodible layer's displaced and mobilised material), fit the\n"
+                    "observed orders, write converge.csv, converge.json and converge.png; for\n"
+                    "tolerance and rest, judge every level against the tightest and name the\n"
+                    "loosest within the tolerances. Exit code 0 when the finest two levels\n"
+                    "agree within the tolerances, 1 when not.",
         epilog="tolerances (--tolerances NAME=VALUE,..., any subset; defaults: the project's "
                "accuracy targets):\n" + "\n".join(
                    f"  {k:<14} {v:<6g} {TOLERANCE_MEANING[k]}" for k, v in
                    DEFAULT_TOLERANCES.items())
+               + "\noptional (checked only when given): " + ", ".join(
+                   f"{k} (e.g. {v:g}: {TOLERANCE_MEANING[k]})"
+                   for k, v in OPTIONAL_TOLERANCES.items())
                + "\nexample: granflow converge rectangle-rigid --in space --levels 3 "
                  "--tolerances runout=0.01,surface_max=0.005")
     p.add_argument("scenario", metavar="SCENARIO|FILE",

@@ -65,3 +65,17 @@ def settle_time(t: np.ndarray, front_x: np.ndarray, tol: float = 1e-3) -> float 
     if len(away) == 0 or away[-1] + 1 == len(t):
         return None
     return float(t[away[-1] + 1])
+
+
+def flow_duration(t: np.ndarray, flowing_fraction: np.ndarray,
+                  fraction: float = 0.01) -> float | None:
+    """When the flow ends: the first time after the flowing area's peak at which less than
+    ``fraction`` of the domain flows. Less fragile than the rest rule's stop time, which a
+    thin front creeping about its 0.1 % threshold can delay by tenths of a second. None if
+    the mass never moved or still flows at the end."""
+    flowing = np.asarray(flowing_fraction, dtype=float)
+    if not len(flowing) or flowing.max() <= 0:
+        return None
+    peak = int(flowing.argmax())
+    after = flowing[peak:] < fraction
+    return float(np.asarray(t)[peak + int(after.argmax())]) if after.any() else None
