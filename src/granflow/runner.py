@@ -206,11 +206,15 @@ class _Run:
                                sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
             run_dir.write_text("traceback.txt", traceback.format_exc())
         finally:
-            self.bar.close("at rest" if result is not None and result.status == "stopped"
-                           else "")
+            stopped = result is not None and result.status == "stopped"
+            rest = _rest_since(sim) if stopped else None
+            self.bar.close("" if not stopped else "at rest" if rest is None
+                           else f"at rest from t = {rest:.3f} s", complete=stopped)
             self.diagnostics.close()
         final = self._write_final_state() if crashed is None else None
-        at_rest = self.at_times.flush(sim) if result.status == "stopped" else []
+        # output times after the mass came to rest are never reached: nothing is written for
+        # them, the state at rest (profiles/*_final.csv, the last VTU) stands for them
+        at_rest = list(self.at_times.pending) if result.status == "stopped" else []
         solver = problem.solver
         volume = state_measures(problem.mesh, solver.velocity, solver.density,
                                 coords=solver.coordinates)["volume"]
@@ -220,7 +224,7 @@ class _Run:
             "steps": result.steps,
             "rejected_steps": result.rejected_steps,
             "rejections": result.rejections,
-            "outputs_at_rest": at_rest,   # output times written from the final (rest) state
+            "outputs_at_rest": at_rest,   # output times after the stop: the rest state's
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
             "unconverged_steps": result.unconverged_steps,
             "skipped_remeshes": result.skipped_remeshes,
@@ -256,6 +260,12 @@ class _Run:
                                     f"{type(exc).__name__}: {exc}\n")
             return None
         return t
+
+
+def _rest_since(sim: Simulation) -> float | None:
+    """When the mass came to rest, by the stop criterion that ended the run."""
+    return next((float(c.rest_since) for c in sim.stop_criteria
+                 if getattr(c, "rest_since", None) is not None), None)
 
 
 @contextlib.contextmanager
