@@ -234,11 +234,12 @@ class RunPlots:
             ax.legend(fontsize="small")
         return ax
 
-    def all(self) -> list[Path]:
-        """Every figure of the run again, into RUN_DIR/plots; returns the files."""
+    def all(self, figure_format: str | None = None, dpi: int | None = None) -> list[Path]:
+        """Every figure of the run again, into RUN_DIR/plots, in the run's format or in
+        ``figure_format`` ("png", "pdf", "svg") at ``dpi``; returns the files."""
         from granflow.io.replot import plot_run
 
-        return plot_run(self._run.root)
+        return plot_run(self._run.root, figure_format, dpi)
 
 
 def run(case: str | Path | Config, overrides: Mapping[str, Any] | Sequence[str] | None = None,

@@ -34,6 +34,7 @@ from granflow.config import (
     config_to_toml,
     load_config,
 )
+from granflow.config.schema import FIGURE_FORMATS
 from granflow.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -193,6 +194,10 @@ def _parser() -> argparse.ArgumentParser:
         description="Regenerate RUN_DIR/plots from config.toml, profiles/, diagnostics.csv "
                     "and frames/ (also for a killed or running run).")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
+    p.add_argument("--format", choices=FIGURE_FORMATS, dest="figure_format",
+                   help="png, pdf or svg (default: the run's output.figure_format)")
+    p.add_argument("--dpi", type=int, metavar="N",
+                   help="resolution of raster figures, 50..1200 (default: the run's output.dpi)")
     p.set_defaults(command=_plot)
 
     p = commands.add_parser(
@@ -322,8 +327,9 @@ def _converge(args: argparse.Namespace) -> int:
 def _plot(args: argparse.Namespace) -> int:
     from granflow.io.replot import plot_run
 
-    written = plot_run(args.run_dir)
-    print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}")
+    written = plot_run(args.run_dir, args.figure_format, args.dpi)
+    print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}: "
+          f"{', '.join(p.name for p in written)}")
     return 0
 
 

@@ -43,6 +43,7 @@ __all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_probl
            "run_simulation"]
 
 Table = tuple[list[str], np.ndarray]   # column names, rows of a profile
+EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME_times_s)
 
 
 class Problem(Protocol):
@@ -136,6 +137,11 @@ class _Run:
         self.diagnostics = DiagnosticsLog(run_dir, saved, layer=(
             config.geometry.kind == "column" and config.geometry.erodible_thickness > 0))
         self.fields = FieldSnapshots(run_dir, problem, saved)
+        # when the mesh was replaced and when a surface node landed on the bed (the figures
+        # mark them: each changes the kinetic energy at once)
+        self.events = {name: [float(t) for t in (saved or {}).get(f"{name}_times", [])
+                              if isinstance(t, int | float)] for name in EVENTS}
+        self.events_seen = _event_counts(problem)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)
         if resume is not None:   # those still ahead (the configuration may have changed them)
@@ -167,6 +173,11 @@ class _Run:
                               speed, problem.solver.coordinates)
         self.diagnostics.write(row)
         problem.record(row)
+        counts = _event_counts(problem)
+        for name, count in counts.items():
+            if count > self.events_seen[name]:    # a remesh comes before the step's move,
+                self.events[name].append(s.t - s.dt if name == "remesh" else s.t)  # a landing
+        self.events_seen = counts                                                 # with it
 
     def _outputs_at(self, s: Simulation, t: float) -> None:
         write_profiles(self.run_dir, self.problem, t)
@@ -174,6 +185,7 @@ class _Run:
 
     def checkpoint(self, s: Simulation) -> None:
         outputs: dict[str, Any] = {"volume0": self.volume0,
+                                   **{f"{k}_times": list(v) for k, v in self.events.items()},
                                    "pending_times": list(self.at_times.pending),
                                    "animation_next": (self.animation.next
                                                       if self.animation is not None else None)}
@@ -225,6 +237,8 @@ class _Run:
             "rejected_steps": result.rejected_steps,
             "rejections": result.rejections,
             "outputs_at_rest": at_rest,   # output times after the stop: the rest state's
+            "remesh_times_s": self.events["remesh"],          # the mesh replaced
+            "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
             "unconverged_steps": result.unconverged_steps,
             "skipped_remeshes": result.skipped_remeshes,
@@ -260,6 +274,14 @@ class _Run:
                                     f"{type(exc).__name__}: {exc}\n")
             return None
         return t
+
+
+def _event_counts(problem: Problem) -> dict[str, int]:
+    """How many remeshes and depositions (free-surface edges relabelled as bed, paper
+    Figure 2) the problem has had so far (none for a fixed mesh)."""
+    remesher, mover = getattr(problem, "remesher", None), getattr(problem, "mover", None)
+    return {"remesh": int(getattr(remesher, "remeshes", 0)),
+            "deposition": int(getattr(mover, "relabelled_segments", 0))}
 
 
 def _rest_since(sim: Simulation) -> float | None:

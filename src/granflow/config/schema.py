@@ -208,6 +208,8 @@ class Output(_Section):
     vtk_every: Count  # 0 = only at output_times
     checkpoint_every: Count  # 0 = only when interrupted or failed
     progress: bool
+    figure_format: Literal["png", "pdf", "svg"]  # plots/*.png, .pdf or .svg
+    dpi: Annotated[int, Field(ge=50, le=1200)]  # raster resolution (dots per inch)
 
 
 class ConfigModel(_Section):
@@ -226,6 +228,8 @@ class ConfigModel(_Section):
     surface_tension: SurfaceTension
     output: Output
 
+
+FIGURE_FORMATS: tuple[str, ...] = get_args(Output.model_fields["figure_format"].annotation)
 
 SECTIONS: dict[str, type[_Section]] = {
     name: field.annotation
