@@ -100,3 +100,15 @@ def test_the_run_reports_its_last_lines(stopped: granflow.Run) -> None:
     assert f"runout              {s.runout_m:.4f} m" in text
     assert "height at the wall" in text and "volume error" in text
     assert str(Path(stopped.root) / "plots") in text or "plots" in lines[-2]
+
+
+def test_the_fields_hold_the_stress_and_the_yield_ratio(stopped: granflow.Run) -> None:
+    """Where the material flows (|Du| far above eps) it is at yield, |sigma'| >= kappa, as
+    (2.13) makes it; the static side of the interface is below."""
+    fields = stopped.fields(0.1)
+    for name in ("stress_xx", "stress_zz", "stress_xz", "deviatoric_stress_norm"):
+        assert fields[name].shape == (len(fields.triangles),)
+    shearing = (fields["flowing"] > 0) & (fields["strain_rate_norm"] > 1e-3)
+    assert shearing.any() and np.nanmin(fields["yield_ratio"][shearing]) > 0.99
+    assert np.nanmedian(fields["yield_ratio"][fields["flowing"] == 0]) < 1.0
+    assert np.all(fields["stress_zz"] < 0)                # compression everywhere
