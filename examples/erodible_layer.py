@@ -1,13 +1,13 @@
 """A column over a layer of its own material: how much of the bed it entrains.
 
-    python examples/erodible_layer.py [--quick] [--out runs/example-layer]
+    python examples/erodible_layer.py [--quick] [--out runs/example-layer] [--figure PATH]
 
 Runs the trapezoid over its 5 mm layer twice, once with the layer of the column's own
 material and once with a looser, weaker layer (lower density and friction angle: the
 ``[layer]`` keys), then compares what each flow did to the bed from the runs' tables: the
 eroded area against time (``run.diagnostics``), the erosion depth along the bed
 (``run.erosion``) and where the displaced layer material came from (``run.profile``).
-Draws both erosion depths into OUT/erosion_depths.png.
+Draws both erosion depths into OUT/erosion_depths.png (or PATH).
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="coarse and short (for tests)")
     parser.add_argument("--out", type=Path, default=Path("runs/example-layer"))
+    parser.add_argument("--figure", type=Path, help="where to draw the erosion depths "
+                        "(default OUT/erosion_depths.png)")
     args = parser.parse_args()
 
     fig, ax = plt.subplots(figsize=(8, 3))
@@ -60,8 +62,9 @@ def main() -> None:
            title="How deep the flow displaced the layer, by original position")
     ax.invert_yaxis()
     ax.legend()
-    fig.savefig(args.out / "erosion_depths.png", dpi=120, bbox_inches="tight")
-    print(f"figure: {args.out / 'erosion_depths.png'}")
+    figure = args.figure or args.out / "erosion_depths.png"
+    fig.savefig(figure, dpi=120, bbox_inches="tight")
+    print(f"figure: {figure}")
 
 
 if __name__ == "__main__":
