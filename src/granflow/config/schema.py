@@ -186,7 +186,7 @@ class Time(_Section):
     dt_init: Step
     dt_max: Step
     dt_growth: Annotated[float, Field(ge=1, le=10)]
-    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (3.1)
+    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (section 3.1)
     scheme: Literal["implicit-euler", "bdf2"]  # time scheme of (3.2a): order 1 or 2
     error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
     error_floor: Annotated[float, Field(gt=0, le=1e3)]  # adaptive: m/s, RMS speed floor
