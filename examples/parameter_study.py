@@ -58,8 +58,8 @@ def main() -> None:
     deposits.set(xlabel="x (m)", ylabel="z (m)", aspect="equal", title="Last state")
     deposits.legend(fontsize=8)
     law.plot(table["aspect_ratio"], table["normalised_runout"], "o-")
-    law.set(xlabel="a = h0 / l0", ylabel="(r_inf - l0) / l0", title="Runout",
-            xscale="log", yscale="log")
+    law.set(xlabel="a = h0 / l0", ylabel="(r_inf - l0) / l0", title="Runout", xlim=(0, None),
+            ylim=(0, None))
     figure = args.figure or args.out / "study.png"
     fig.savefig(figure, dpi=120, bbox_inches="tight")
     print(f"figure: {figure}")

@@ -30,7 +30,7 @@ from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.erosion_plots import plot_erosion  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import FigureFormat  # noqa: E402
-from granflow.io.run_dir import RunDir  # noqa: E402
+from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
 
 STATIC, FLOWING = "0.62", "#bcd7ee"        # fills of the static and flowing zones
 
@@ -157,7 +157,7 @@ def _zones(view: View) -> None:
         ax.plot(*view.outline.T, "--", color="0.6", lw=0.7)
         try:
             snap = read_snapshot(view.run_dir.root, t)
-        except (ValueError, OSError, KeyError):
+        except (RunDirError, ValueError, OSError, KeyError):   # no usable snapshot
             snap = None
         if snap is not None and "velocity" in snap.point_data:
             mesh = mtri.Triangulation(snap.points[:, 0], snap.points[:, 1], snap.triangles)
