@@ -175,9 +175,10 @@ class _Run:
         problem.record(row)
         counts = _event_counts(problem)
         for name, count in counts.items():
-            if count > self.events_seen[name]:    # a remesh comes before the step's move,
-                self.events[name].append(s.t - s.dt if name == "remesh" else s.t)  # a landing
-        self.events_seen = counts                                                 # with it
+            if count > self.events_seen[name]:
+                # a remesh comes before the step's move, a landing on the bed ends it
+                self.events[name].append(s.t - s.dt if name == "remesh" else s.t)
+        self.events_seen = counts
 
     def _outputs_at(self, s: Simulation, t: float) -> None:
         write_profiles(self.run_dir, self.problem, t)

@@ -57,3 +57,24 @@ def test_a_run_at_rest_ends_its_bar_at_100_percent(capsys: pytest.CaptureFixture
     bar.close("at rest from t = 0.888 s", complete=True)
     last = capsys.readouterr().err.replace("\r", "\n").strip().splitlines()[-1]
     assert last.startswith("100%") and "at rest from t = 0.888 s" in last
+
+
+def test_a_notebook_counts_as_watched_and_gets_a_bar_it_can_show(monkeypatch) -> None:
+    import sys
+    import types
+
+    from tqdm import tqdm
+
+    from granflow.api import watched
+    from granflow.simulation import callbacks
+
+    monkeypatch.setitem(sys.modules, "ipykernel", types.ModuleType("ipykernel"))
+    assert watched()
+    try:
+        import ipywidgets  # noqa: F401
+    except ImportError:             # no widgets: the text bar, which a notebook shows too
+        assert callbacks._bar_class() is tqdm
+    else:
+        from tqdm.notebook import tqdm as notebook_bar
+
+        assert callbacks._bar_class() is notebook_bar
