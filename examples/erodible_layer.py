@@ -43,7 +43,10 @@ def main() -> None:
                            out=args.out / name.replace(" ", "-"), force=True)
         history = run.diagnostics
         extra = run.summary.extra
-        print(f"{name}: {run.summary.status} at t = {run.summary.t_final:.3f} s, front "
+        s = run.summary
+        ended = (f"at rest from t = {s.stop_time_s:.3f} s" if s.at_rest
+                 else f"still moving at t = {s.t_final:.3f} s")
+        print(f"{name}: {s.status}, {ended}, front "
               f"{run.summary.runout_m:.3f} m, column material to {extra['column_front_m']:.3f}"
               f" m; layer displaced {1e4 * extra['layer_displaced_area_m2']:.2f} cm^2 per "
               f"metre (largest in motion at once {1e4 * history['layer_mobilised_area'].max():.2f}"
