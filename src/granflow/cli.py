@@ -4,7 +4,7 @@
     granflow show [SCENARIO|FILE.toml] [--set key=value ...]
     granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
-    granflow plot RUN_DIR
+    granflow plot RUN_DIR [--format png|pdf|svg] [--dpi N]
     granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
     granflow converge SCENARIO|FILE [--in time|space|both] [--levels N] [--set key=value ...]
                       [--tolerances NAME=VALUE,...] [--scheduler ADDRESS] [--workers N]
