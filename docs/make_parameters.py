@@ -41,6 +41,21 @@ def comments() -> dict[tuple[str, str], str]:
     return out
 
 
+def toml_text(value: object) -> str:
+    """A default as a user writes it in a TOML file or after --set: true, "picard", 1e-06,
+    1e+12, [0.18, 0.3], none."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return "none" if value == "none" else f'"{value}"'
+    if isinstance(value, float):
+        text = repr(value)
+        return f"{value:.12g}" if len(text) > 10 else text
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_text(v) for v in value) + "]"
+    return str(value)
+
+
 def table() -> str:
     defaults = tomllib.loads(
         resources.files("granflow").joinpath("defaults.toml").read_text(encoding="utf-8"))
@@ -51,7 +66,7 @@ def table() -> str:
                   "|---|---|---|---|"]
         for key, field in model.model_fields.items():
             value = defaults.get(section, {}).get(key)
-            default = "set by the scenario" if value is None else f"`{value!r}`"
+            default = "set by the scenario" if value is None else f"`{toml_text(value)}`"
             allowed = _describe(field.annotation, field.metadata).replace("|", "\\|")
             note = notes.get((section, key), "").replace("|", "\\|")
             lines.append(f"| `{key}` | {default} | {allowed} | {note} |")

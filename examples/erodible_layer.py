@@ -1,13 +1,13 @@
 """A column over a layer of its own material: how much of the bed it entrains.
 
-    python examples/erodible_layer.py [--quick] [--out runs/example-layer]
+    python examples/erodible_layer.py [--quick] [--out runs/example-layer] [--figure PATH]
 
 Runs the trapezoid over its 5 mm layer twice, once with the layer of the column's own
 material and once with a looser, weaker layer (lower density and friction angle: the
 ``[layer]`` keys), then compares what each flow did to the bed from the runs' tables: the
 eroded area against time (``run.diagnostics``), the erosion depth along the bed
 (``run.erosion``) and where the displaced layer material came from (``run.profile``).
-Draws both erosion depths into OUT/erosion_depths.png.
+Draws both erosion depths into OUT/erosion_depths.png (or PATH).
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="coarse and short (for tests)")
     parser.add_argument("--out", type=Path, default=Path("runs/example-layer"))
+    parser.add_argument("--figure", type=Path, help="where to draw the erosion depths "
+                        "(default OUT/erosion_depths.png)")
     args = parser.parse_args()
 
     fig, ax = plt.subplots(figsize=(8, 3))
@@ -41,7 +43,10 @@ def main() -> None:
                            out=args.out / name.replace(" ", "-"), force=True)
         history = run.diagnostics
         extra = run.summary.extra
-        print(f"{name}: {run.summary.status} at t = {run.summary.t_final:.3f} s, front "
+        s = run.summary
+        ended = (f"at rest from t = {s.stop_time_s:.3f} s" if s.at_rest
+                 else f"still moving at t = {s.t_final:.3f} s")
+        print(f"{name}: {s.status}, {ended}, front "
               f"{run.summary.runout_m:.3f} m, column material to {extra['column_front_m']:.3f}"
               f" m; layer displaced {1e4 * extra['layer_displaced_area_m2']:.2f} cm^2 per "
               f"metre (largest in motion at once {1e4 * history['layer_mobilised_area'].max():.2f}"
@@ -60,8 +65,9 @@ def main() -> None:
            title="How deep the flow displaced the layer, by original position")
     ax.invert_yaxis()
     ax.legend()
-    fig.savefig(args.out / "erosion_depths.png", dpi=120, bbox_inches="tight")
-    print(f"figure: {args.out / 'erosion_depths.png'}")
+    figure = args.figure or args.out / "erosion_depths.png"
+    fig.savefig(figure, dpi=120, bbox_inches="tight")
+    print(f"figure: {figure}")
 
 
 if __name__ == "__main__":

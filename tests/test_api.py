@@ -132,6 +132,8 @@ def test_a_cylinder_runs_from_the_api_with_its_measures_in_r(tmp_path: Path) -> 
     assert cylinder.diagnostics["volume"].iloc[0] == pytest.approx(np.pi * 0.1**2 * 0.14)
     assert cylinder.plot.free_surfaces().get_xlabel() == "r (m)"
     assert (cylinder.root / "plots" / "free_surface.png").is_file()
+    fields = cylinder.fields(0.05)         # the hoop stress of r-z: compressive like the rest
+    assert np.all(fields["stress_hoop"] < 0) and "stress_hoop" in repr(fields)
 
 
 def test_a_layer_of_its_own_material_reports_its_entrainment(tmp_path: Path) -> None:

@@ -14,7 +14,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 @pytest.mark.parametrize("script, expected", [
     ("collapse.py", ["free_surfaces.png", "summary.json"]),
-    ("parameter_study.py", ["study.csv", "h0.2/summary.json"]),
+    ("parameter_study.py", ["study.csv", "study.png", "h0.2/summary.json"]),
     ("compare_rheologies.py", ["rheologies.png", "mu-i/summary.json"]),
     ("erodible_layer.py", ["erosion_depths.png", "looser-layer/plots/erosion.png"]),
 ])
@@ -27,3 +27,4 @@ def test_example_runs(script: str, expected: list[str], tmp_path: Path) -> None:
     for name in expected:
         assert (out / name).is_file(), f"{script} did not write {name}"
     assert "Traceback" not in done.stderr
+    assert "None" not in done.stdout, done.stdout          # every number printed as one

@@ -8,7 +8,8 @@
     run.fields(0.3)                   # velocity, pressure, strain rate... at an output time
     run.plot.free_surfaces()          # a matplotlib Axes
     again = granflow.load("runs/t1")  # the same object from the run directory
-    cfg = granflow.Config.load("rectangle-rigid").set("geometry.height", 0.2)
+    cfg = granflow.Config.load("rectangle-rigid", {"geometry.height": 0.2})
+    cfg.save("tall.toml")             # cfg.to_toml(): every key, as `granflow show` prints
     granflow.run(cfg)                 # out=None: a fresh folder under runs/, as the CLI does
 
 Everything is read from the run directory's files (config.toml, summary.json,
@@ -18,6 +19,8 @@ by someone else opens the same way. The command line is a thin layer over ``run`
 
 from __future__ import annotations
 
+import re
+import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
@@ -36,6 +39,7 @@ from granflow.config import (
 )
 from granflow.io import profiles
 from granflow.io.diagnostics import read_diagnostics
+from granflow.io.report import final_lines
 from granflow.io.run_dir import RunDir, RunDirError
 
 if TYPE_CHECKING:
@@ -55,15 +59,17 @@ class Summary:
     scenario: str
     status: str                   # completed | stopped | interrupted | failed | running
     message: str
-    t_final: float | None         # s, simulated time reached
-    stop_time_s: float | None     # s, when the mass came to rest (None: it did not)
+    t_final: float | None         # s, simulated time reached (stopped: the stop time plus
+                                  # the rest window that confirmed it, time.rest_duration)
+    stop_time_s: float | None     # s, the stop time: the mass at rest from then on (None:
+                                  # still moving at t_end)
     runout_m: float | None        # m, front position at the end
     steps: int | None
     nonlinear_iterations: int | None
     wall_time_s: float | None
     linear_solver: str | None     # the sparse LU the run used
     volume_relative_error: float | None
-    extra: dict[str, Any] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Summary:
@@ -79,6 +85,11 @@ class Summary:
         """True when the run finished (reached t_end or came to rest)."""
         return self.status in OK_STATUSES
 
+    @property
+    def at_rest(self) -> bool:
+        """True when the mass came to rest (``stop_time_s`` is its stop time)."""
+        return self.stop_time_s is not None
+
 
 class Run:
     """A run directory opened for reading (see the module docstring)."""
@@ -91,6 +102,12 @@ class Run:
 
     def __repr__(self) -> str:
         return f"granflow.Run('{self.root}', status={self.summary.status!r})"
+
+    def report(self) -> str:
+        """The lines a run prints when it ends: status, stop time (or still moving at
+        t_end), runout, final height at the wall or on the axis, volume error, wall time,
+        where the figures are."""
+        return "\n".join(final_lines(RunDir.summary(self.root), self.root))
 
     @cached_property
     def config(self) -> Config:
@@ -109,9 +126,11 @@ class Run:
 
     @property
     def surfaces(self) -> pd.DataFrame:
-        """Free surface and static/flowing interface at every output time, tidy: columns
-        t (s), kind ("free_surface" | "interface"), x (m), z (m). The last accepted state
-        (profiles/*_final.csv) has the time summary.json records for it."""
+        """Free surface and static/flowing interface at every output time the run reached,
+        tidy: columns t (s), kind ("free_surface" | "interface"), x (m), z (m). The last
+        accepted state (profiles/*_final.csv) has the time summary.json records for it (for
+        a mass at rest: its stop time plus the rest window); output times after the stop
+        have no rows: the state at rest stands for them."""
         import pandas as pd
 
         final_t = self.summary.extra.get("final_profiles_t")
@@ -189,51 +208,107 @@ class RunPlots:
         self._run = run
 
     def free_surfaces(self, ax: plt.Axes | None = None) -> plt.Axes:
-        """The free surface at every output time (x and z in m, equal scales)."""
+        """The free surface at every output time the run reached and its last state, once,
+        labelled "at rest from t = ..." for a mass at rest (x and z in m, equal scales)."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 3))
+        summary = self._run.summary
+        final_t = summary.extra.get("final_profiles_t")
         surfaces = self._run.surfaces
-        for t, rows in surfaces[surfaces["kind"] == "free_surface"].groupby("t"):
-            ax.plot(rows["x"], rows["z"], label=f"t = {t:.3g} s")
+        surfaces = surfaces[surfaces["kind"] == "free_surface"]
+        for t, rows in surfaces.groupby("t"):
+            last = final_t is not None and abs(t - final_t) < 1e-9
+            if last and summary.at_rest:
+                label = f"at rest from t = {summary.stop_time_s:.3f} s"
+            else:
+                label = f"t = {t:.3g} s" + (f" ({summary.status})" if last and not
+                                            summary.ok else "")
+            ax.plot(rows["x"], rows["z"], label=label, **({"color": "k"} if last else {}))
         ax.set_xlabel("r (m)" if self._run.config.geometry.axisymmetric else "x (m)")
         ax.set_ylabel("z (m)")
         ax.set_aspect("equal")
-        ax.set_title(f"{self._run.summary.scenario}: free surface")
+        ax.set_title(f"{summary.scenario}: free surface")
         if len(ax.lines):
             ax.legend(fontsize="small")
         return ax
 
-    def all(self) -> list[Path]:
-        """Every figure of the run again, into RUN_DIR/plots; returns the files."""
+    def all(self, figure_format: str | None = None, dpi: int | None = None) -> list[Path]:
+        """Every figure of the run again, into RUN_DIR/plots, in the run's format or in
+        ``figure_format`` ("png", "pdf", "svg") at ``dpi``; returns the files."""
         from granflow.io.replot import plot_run
 
-        return plot_run(self._run.root)
+        return plot_run(self._run.root, figure_format, dpi)
 
 
 def run(case: str | Path | Config, overrides: Mapping[str, Any] | Sequence[str] | None = None,
-        out: str | Path | None = None, *, force: bool = False, progress: bool = False,
+        out: str | Path | None = None, *, force: bool = False, progress: bool | None = None,
         log: Callable[[str], None] | None = None) -> Run:
     """Run ``case`` (a built-in scenario, a TOML file or a ``Config``) to its end.
 
-    ``overrides``: {"section.key": value} or ["section.key=value", ...]. ``out``: the run
-    directory (None: runs/<scenario>-<time>); ``force`` replaces a run already there.
-    ``log`` receives the one line that says where the run goes and with which solver.
+    ``overrides``: {"section.key": value} or ["section.key=value", ...], checked as the
+    command line checks ``--set``. ``out``: the run directory (None: runs/<scenario>-<time>);
+    ``force=True`` replaces a run already there. ``progress``: a progress bar and the run's
+    last lines (status, stop time, runout, where the figures are); None (default) shows them
+    where someone watches: a terminal or a notebook. ``log`` receives those lines and the
+    first one (where the run goes, with which solver); ``print`` when progress is shown.
     A run that fails still returns: its ``summary.status`` and ``message`` say why.
     """
+    try:
+        return run_case(case, overrides, out, force=force, progress=progress, log=log)
+    except RunDirError as err:
+        raise RunDirError(python_wording(str(err))) from None
+
+
+def run_case(case: str | Path | Config,
+             overrides: Mapping[str, Any] | Sequence[str] | None = None,
+             out: str | Path | None = None, *, force: bool = False,
+             progress: bool | None = None, log: Callable[[str], None] | None = None) -> Run:
+    """``run`` as the command line calls it: its messages name the command's options."""
     config, label = _resolve(case, overrides)
     check_solver(config)
     from granflow.runner import run_simulation
 
+    progress = watched() if progress is None else progress
+    log = print if log is None and progress else log
     run_dir = RunDir.create(Path(out) if out is not None else fresh_folder(label), force=force)
     with run_dir.lock():
         run_dir.write_text("config.toml", config_to_toml(config))
         if log is not None:
             log(f"granflow: running {label} into {run_dir.root} "
                 f"(sparse LU: {solver_label(config)})")
-        run_simulation(config, run_dir, progress=progress and config.output.progress)
+        summary = run_simulation(config, run_dir, progress=progress and config.output.progress)
+    if log is not None:
+        for line in final_lines(summary, run_dir.root):
+            log(line)
     return Run(run_dir.root)
+
+
+def watched() -> bool:
+    """True where someone watches the run: a Jupyter kernel or a terminal on stderr."""
+    if "ipykernel" in sys.modules:
+        return True
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+# The command line's options in a message, and what a Python caller writes instead.
+_PYTHON_WORDS = [(re.compile(r"`granflow resume ([^`]+)`"), r"granflow.resume('\1')"),
+                 (re.compile(r"use --force"), "pass force=True"),
+                 (re.compile(r"--force"), "force=True"),
+                 (re.compile(r"--out"), "out"),
+                 (re.compile(r"--set "), "overrides "),
+                 (re.compile(r"--allow-pickle"), "allow_pickle=True")]
+
+
+def python_wording(message: str) -> str:
+    """A message worded for the command line, reworded for a Python caller."""
+    for pattern, words in _PYTHON_WORDS:
+        message = pattern.sub(words, message)
+    return message
 
 
 def resume(path: str | Path, overrides: Mapping[str, Any] | Sequence[str] | None = None, *,
@@ -314,10 +389,11 @@ def _override_texts(overrides: Mapping[str, Any] | Sequence[str] | None) -> list
 
 def _resolve(case: str | Path | Config,
              overrides: Mapping[str, Any] | Sequence[str] | None) -> tuple[Config, str]:
-    """The validated configuration of ``case`` with ``overrides``, and its label."""
-    texts = _override_texts(overrides)
+    """The validated configuration of ``case`` with ``overrides``, and its label (the same
+    checks as the command line's, ``config/loading.py``)."""
+    overrides = overrides or ()
     if isinstance(case, Config):
-        config = apply_overrides(case, texts) if texts else case
+        config = apply_overrides(case, overrides) if overrides else case
         return config, "custom" if config.scenario == CUSTOM else config.scenario
-    config = load_config(str(case), texts)
+    config = load_config(case, overrides)
     return config, Path(str(case)).stem if config.scenario == CUSTOM else config.scenario

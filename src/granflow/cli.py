@@ -4,7 +4,7 @@
     granflow show [SCENARIO|FILE.toml] [--set key=value ...]
     granflow run [SCENARIO|FILE.toml] [--set key=value ...] [--out DIR] [--force] [--quiet]
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
-    granflow plot RUN_DIR
+    granflow plot RUN_DIR [--format png|pdf|svg] [--dpi N]
     granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
     granflow converge SCENARIO|FILE [--in time|space|both|tolerance|rest] [--levels N]
                       [--set key=value ...]
@@ -35,6 +35,7 @@ from granflow.config import (
     config_to_toml,
     load_config,
 )
+from granflow.config.schema import FIGURE_FORMATS
 from granflow.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -102,6 +103,7 @@ def _parser() -> argparse.ArgumentParser:
                     "output is a TOML file that `granflow run` accepts.")
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO, metavar="SCENARIO|FILE.toml")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   type=_assignment,
                    help="override a configuration key (repeatable)")
     p.set_defaults(command=_show)
 
@@ -113,6 +115,7 @@ def _parser() -> argparse.ArgumentParser:
                    help=f"built-in scenario name or path of a TOML file (default: "
                         f"{DEFAULT_SCENARIO})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   type=_assignment,
                    help="override a configuration key, e.g. --set numerics.eps=1e-4 (repeatable)")
     p.add_argument("--out", type=Path, help="run directory (default: runs/<scenario>-<time>)")
     p.add_argument("--force", action="store_true",
@@ -126,6 +129,7 @@ def _parser() -> argparse.ArgumentParser:
                     "configuration in RUN_DIR/config.toml.")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   type=_assignment,
                    help="change a key before continuing, e.g. --set time.dt_max=5e-4 after a "
                         "failure (the step policy then restarts from the new configuration)")
     p.add_argument("--allow-pickle", action="store_true",
@@ -182,6 +186,7 @@ def _parser() -> argparse.ArgumentParser:
                    help=f"number of levels, {MIN_LEVELS}..{MAX_LEVELS} (default 3; the order "
                         "needs 3)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   type=_assignment,
                    help="override a key of the base case (level 0), repeatable")
     p.add_argument("--tolerances", type=_tolerances, default=dict(DEFAULT_TOLERANCES),
                    metavar="NAME=VALUE,...", help="tolerances of the verdict (see below)")
@@ -199,6 +204,10 @@ def _parser() -> argparse.ArgumentParser:
         description="Regenerate RUN_DIR/plots from config.toml, profiles/, diagnostics.csv "
                     "and frames/ (also for a killed or running run).")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
+    p.add_argument("--format", choices=FIGURE_FORMATS, dest="figure_format",
+                   help="png, pdf or svg (default: the run's output.figure_format)")
+    p.add_argument("--dpi", type=int, metavar="N",
+                   help="resolution of raster figures, 50..1200 (default: the run's output.dpi)")
     p.set_defaults(command=_plot)
 
     p = commands.add_parser(
@@ -233,11 +242,11 @@ def _scenarios(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from granflow.api import run
+    from granflow.api import run_case
 
-    result = run(args.scenario, args.overrides, args.out, force=args.force,
-                 progress=not args.quiet, log=None if args.quiet else print)
-    return _report(RunDir.summary(result.root), RunDir(result.root))
+    result = run_case(args.scenario, args.overrides, args.out, force=args.force,
+                      progress=not args.quiet, log=None if args.quiet else print)
+    return _report(RunDir.summary(result.root), RunDir(result.root), printed=not args.quiet)
 
 
 def _resume(args: argparse.Namespace) -> int:
@@ -246,6 +255,14 @@ def _resume(args: argparse.Namespace) -> int:
     result = resume(args.run_dir, args.overrides, allow_pickle=args.allow_pickle,
                     progress=not args.quiet, log=None if args.quiet else print)
     return _report(RunDir.summary(result.root), RunDir(result.root))
+
+
+def _assignment(text: str) -> str:
+    """A --set argument: section.key=value (the key and value are checked with the rest of
+    the configuration)."""
+    if "=" not in text or not text.partition("=")[0].strip():
+        raise argparse.ArgumentTypeError(f"expects section.key=value, got {text!r}")
+    return text
 
 
 def _positive_int(text: str) -> int:
@@ -320,16 +337,20 @@ def _converge(args: argparse.Namespace) -> int:
 def _plot(args: argparse.Namespace) -> int:
     from granflow.io.replot import plot_run
 
-    written = plot_run(args.run_dir)
-    print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}")
+    written = plot_run(args.run_dir, args.figure_format, args.dpi)
+    print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}: "
+          f"{', '.join(p.name for p in written)}")
     return 0
 
 
-def _report(summary: dict[str, Any], run_dir: RunDir) -> int:
+def _report(summary: dict[str, Any], run_dir: RunDir, printed: bool = False) -> int:
+    """The run's last lines (unless the run printed them already), its message on stderr if
+    it did not finish, and the exit code."""
+    from granflow.io.report import final_lines
+
     status = summary.get("status", "failed")
-    print(f"{status}: t_final = {_num(summary.get('t_final'), '.6g')} s, "
-          f"{summary.get('steps')} steps, wall time {_num(summary.get('wall_time_s'), '.1f')} s"
-          f" -> {run_dir.root}")
+    if not printed:
+        print("\n".join(final_lines(summary, run_dir.root)))
     if status not in OK_STATUSES and summary.get("message"):
         print(f"granflow: {summary['message']}", file=sys.stderr)
     return 0 if status in OK_STATUSES else 130 if status == "interrupted" else 1
@@ -359,6 +380,3 @@ def _verify(args: argparse.Namespace) -> int:
                  if cell.volume_error is not None else ""), file=sys.stderr)
     return 1 if outcome.failed else 0
 
-
-def _num(value: object, spec: str) -> str:
-    return format(value, spec) if isinstance(value, int | float) else str(value)

@@ -43,6 +43,7 @@ __all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_probl
            "run_simulation"]
 
 Table = tuple[list[str], np.ndarray]   # column names, rows of a profile
+EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME_times_s)
 
 
 class Problem(Protocol):
@@ -136,6 +137,11 @@ class _Run:
         self.diagnostics = DiagnosticsLog(run_dir, saved, layer=(
             config.geometry.kind == "column" and config.geometry.erodible_thickness > 0))
         self.fields = FieldSnapshots(run_dir, problem, saved)
+        # when the mesh was replaced and when a surface node landed on the bed (the figures
+        # mark them: each changes the kinetic energy at once)
+        self.events = {name: [float(t) for t in (saved or {}).get(f"{name}_times", [])
+                              if isinstance(t, int | float)] for name in EVENTS}
+        self.events_seen = _event_counts(problem)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)
         if resume is not None:   # those still ahead (the configuration may have changed them)
@@ -167,6 +173,12 @@ class _Run:
                               speed, problem.solver.coordinates)
         self.diagnostics.write(row)
         problem.record(row)
+        counts = _event_counts(problem)
+        for name, count in counts.items():
+            if count > self.events_seen[name]:
+                # a remesh comes before the step's move, a landing on the bed ends it
+                self.events[name].append(s.t - s.dt if name == "remesh" else s.t)
+        self.events_seen = counts
 
     def _outputs_at(self, s: Simulation, t: float) -> None:
         write_profiles(self.run_dir, self.problem, t)
@@ -174,6 +186,7 @@ class _Run:
 
     def checkpoint(self, s: Simulation) -> None:
         outputs: dict[str, Any] = {"volume0": self.volume0,
+                                   **{f"{k}_times": list(v) for k, v in self.events.items()},
                                    "pending_times": list(self.at_times.pending),
                                    "animation_next": (self.animation.next
                                                       if self.animation is not None else None)}
@@ -206,11 +219,15 @@ class _Run:
                                sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
             run_dir.write_text("traceback.txt", traceback.format_exc())
         finally:
-            self.bar.close("at rest" if result is not None and result.status == "stopped"
-                           else "")
+            stopped = result is not None and result.status == "stopped"
+            rest = _rest_since(sim) if stopped else None
+            self.bar.close("" if not stopped else "at rest" if rest is None
+                           else f"at rest from t = {rest:.3f} s", complete=stopped)
             self.diagnostics.close()
         final = self._write_final_state() if crashed is None else None
-        at_rest = self.at_times.flush(sim) if result.status == "stopped" else []
+        # output times after the mass came to rest are never reached: nothing is written for
+        # them, the state at rest (profiles/*_final.csv, the last VTU) stands for them
+        at_rest = list(self.at_times.pending) if result.status == "stopped" else []
         solver = problem.solver
         volume = state_measures(problem.mesh, solver.velocity, solver.density,
                                 coords=solver.coordinates)["volume"]
@@ -220,7 +237,9 @@ class _Run:
             "steps": result.steps,
             "rejected_steps": result.rejected_steps,
             "rejections": result.rejections,
-            "outputs_at_rest": at_rest,   # output times written from the final (rest) state
+            "outputs_at_rest": at_rest,   # output times after the stop: the rest state's
+            "remesh_times_s": self.events["remesh"],          # the mesh replaced
+            "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
             "unconverged_steps": result.unconverged_steps,
             "skipped_remeshes": result.skipped_remeshes,
@@ -256,6 +275,20 @@ class _Run:
                                     f"{type(exc).__name__}: {exc}\n")
             return None
         return t
+
+
+def _event_counts(problem: Problem) -> dict[str, int]:
+    """How many remeshes and depositions (free-surface edges relabelled as bed, paper
+    Figure 2) the problem has had so far (none for a fixed mesh)."""
+    remesher, mover = getattr(problem, "remesher", None), getattr(problem, "mover", None)
+    return {"remesh": int(getattr(remesher, "remeshes", 0)),
+            "deposition": int(getattr(mover, "relabelled_segments", 0))}
+
+
+def _rest_since(sim: Simulation) -> float | None:
+    """When the mass came to rest, by the stop criterion that ended the run."""
+    return next((float(c.rest_since) for c in sim.stop_criteria
+                 if getattr(c, "rest_since", None) is not None), None)
 
 
 @contextlib.contextmanager

@@ -183,7 +183,7 @@ def test_config_is_frozen() -> None:
     ("numerics.epsilon=1", "unknown configuration key 'numerics.epsilon' (known keys in"),
     ("numeric.eps=1", "unknown configuration section 'numeric'"),
     ("eps=1", "unknown configuration key 'eps'"),
-    ("numerics.eps", "--set expects section.key=value"),
+    ("numerics.eps", "an override is section.key=value"),
     ("material.friction_angle_deg=90", "friction_angle_deg = 90: must be a number in [0, 90)"),
     ("material.friction_angle_deg=-1", "friction_angle_deg = -1: must be a number in [0, 90)"),
     ("time.dt=0", "time.dt = 0: must be a number in [1e-12, 100] or none"),

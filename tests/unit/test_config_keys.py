@@ -60,6 +60,8 @@ ELSEWHERE = {
     "time.rest_duration": "tests/unit/test_timestep.py (RestCriterion)",
     "surface_tension.release_angle_deg": "tests/unit/test_surface_tension.py (hysteresis)",
     "time.stop_at_rest": "tests/verification/test_collapse.py (the stalled column stops)",
+    "output.figure_format": "tests/test_figures.py (the figures' files)",   # figures are
+    "output.dpi": "tests/test_figures.py (the figures' files)",   # not drawn here (fixture)
 }
 
 

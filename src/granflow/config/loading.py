@@ -5,21 +5,24 @@ Layers, each overriding the one before (pyro2-style):
 1. package defaults, ``granflow/defaults.toml`` (the one place where defaults live);
 2. a scenario: a built-in name, or a TOML file, which may start from a built-in one with a
    top-level ``scenario = "NAME"``;
-3. ``--set section.key=value`` overrides, the value read as a TOML literal
-   (``1e-4``, ``true``, ``[0.1, 0.2]``, ``"newton"``) or else as a bare string.
+3. overrides: ``--set section.key=value`` texts, the value read as a TOML literal
+   (``1e-4``, ``true``, ``[0.1, 0.2]``, ``"newton"``) or else as a bare string; or, from
+   Python, a mapping ``{"section.key": value}`` of Python values.
 
-TOML has no null, so an optional value is unset with the string ``"none"``. Unknown keys,
-out-of-range values and inconsistent combinations raise :class:`ConfigError`, whose message
-is one line naming the key, the value and what is allowed. Units are SI, angles in degrees.
+TOML has no null, so an optional value is unset with the string ``"none"`` (None from
+Python). Every path (a TOML file, ``--set``, ``Config.load``, ``Config.set``) ends in the same
+checks (``_resolve``): unknown keys, out-of-range values, inconsistent combinations and keys
+set where they have no effect raise :class:`ConfigError`, whose message is one line naming
+the key, the value and what is allowed. Units are SI, angles in degrees.
 """
 
 from __future__ import annotations
 
 import copy
 import math
+import numbers
 import tomllib
-import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -28,14 +31,17 @@ import tomli_w
 from pydantic import ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
-from granflow.config.messages import fmt_value, one_line
+from granflow.config.messages import fmt_value, note, one_line
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
-from granflow.config.schema import SECTIONS, ConfigError, ConfigModel, ConfigNote
+from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
 MAX_TOML_BYTES = 2**20  # a configuration or sweep file is a few kB
+
+# ["section.key=value", ...] (the command line's --set) or {"section.key": value} (Python)
+Overrides = Mapping[str, Any] | Sequence[str]
 
 
 class Config(ConfigModel):
@@ -48,20 +54,52 @@ class Config(ConfigModel):
         return self
 
     @classmethod
-    def load(cls, source: str | Path, overrides: Sequence[str] = ()) -> Config:
-        """A built-in scenario or a TOML file, resolved and validated (``load_config``)."""
+    def load(cls, source: str | Path, overrides: Overrides = ()) -> Config:
+        """A built-in scenario or a TOML file with ``overrides`` ({"section.key": value} or
+        ["section.key=value", ...]), resolved and validated (``load_config``)."""
         return load_config(source, overrides)
 
     def set(self, key: str, value: Any) -> Config:
-        """A new, validated configuration with ``key`` ("section.key") set to ``value``."""
-        return apply_overrides(self, [f"{key}={toml_literal(value)}"])
+        """A new, validated configuration with ``key`` ("section.key") set to ``value``
+        (None unsets an optional key); refused as the command line refuses ``--set``."""
+        return apply_overrides(self, {key: value})
+
+    def to_toml(self) -> str:
+        """Every key as TOML: ``granflow run FILE`` and ``Config.load(FILE)`` read it back."""
+        return config_to_toml(self)
+
+    def save(self, path: str | Path) -> Path:
+        """Write ``to_toml()`` to ``path`` (a .toml file, replaced if it exists)."""
+        target = Path(path)
+        if target.is_dir():
+            raise ConfigError(f"cannot save the configuration to '{target}': it is a folder; "
+                              "give a file name such as config.toml")
+        try:
+            target.write_text(self.to_toml(), encoding="utf-8")
+        except OSError as err:
+            raise ConfigError(f"cannot save the configuration to '{target}': "
+                              f"{err.strerror or err}") from None
+        return target
+
+    def __repr__(self) -> str:
+        g, t = self.geometry, self.time
+        if g.kind == "column":
+            shape = "cylinder" if g.axisymmetric else g.shape
+            bed = f" on a {g.erodible_thickness:g} m layer" if g.erodible_thickness else ""
+            what = f"{shape} column {g.width:g} x {g.height:g} m{bed}"
+        else:
+            what = f"periodic layer {g.length:g} x {g.height:g} m"
+        slope = f", slope {g.slope_deg:g} deg" if g.slope_deg else ""
+        return (f"granflow.Config({self.scenario!r}: {what}{slope}, {self.material.rheology}, "
+                f"t_end = {t.t_end:g} s; every key: .to_toml())")
+
+    __str__ = __repr__
 
 
+def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
+    """Resolve defaults -> scenario (built-in name or TOML file) -> overrides.
 
-def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
-    """Resolve defaults -> scenario (built-in name or TOML file) -> ``--set`` overrides.
-
-    A key the user sets (in a TOML file or with ``--set``) to something other than what it
+    A key the user sets (in a TOML file or an override) to something other than what it
     would be anyway is rejected when it has no effect on this scenario (``inert_keys``).
     """
     data = _defaults()
@@ -73,9 +111,24 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
     if from_file:
         _merge(data, layers[-1])
     explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
-    _apply(data, overrides)
-    dropped = _drop_late_outputs(data, overrides, explicit)
+    keys = _apply(data, overrides)
     data["scenario"] = name
+    return _resolve(data, base, explicit or "time.output_times" in keys)
+
+
+def apply_overrides(config: Config, overrides: Overrides) -> Config:
+    """A copy of ``config`` with overrides applied, checked as ``load_config`` checks them
+    (a key without effect here is refused when its value changes)."""
+    data = config.model_dump()
+    base = copy.deepcopy(data)
+    keys = _apply(data, overrides)
+    return _resolve(data, base, "time.output_times" in keys)
+
+
+def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -> Config:
+    """The one validation path of every interface: ``data`` (the layers and overrides
+    merged) against ``base`` (what the keys would be without the user's settings)."""
+    dropped = _drop_late_outputs(data, explicit_times)
     config = _validate(data)
     changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
                if data[section][key] != base[section].get(key)]
@@ -93,16 +146,16 @@ def load_config(source: str | Path, overrides: Sequence[str] = ()) -> Config:
                               f"{cells} both set the mesh size; set one of them")
         data["mesh"]["size"] = size      # the resolution follows the column
         config = _validate(data)
-    _note_dropped(dropped, config)
+    if dropped:
+        note(f"time.output_times {fmt_value(dropped)} of the scenario come after "
+             f"time.t_end = {config.time.t_end:g} s and are not written (set "
+             "time.output_times to choose others)")
     return config
 
 
-def _drop_late_outputs(data: dict[str, Any], overrides: Sequence[str],
-                       explicit: bool) -> list[float]:
+def _drop_late_outputs(data: dict[str, Any], explicit: bool) -> list[float]:
     """Inherited output times after a shortened t_end are dropped (not those the user set);
     returns them."""
-    explicit = explicit or any(o.partition("=")[0].strip() == "time.output_times"
-                               for o in overrides)
     t_end, times = data["time"]["t_end"], data["time"]["output_times"]
     if not explicit and _numbers(times) and _numbers([t_end]):
         data["time"]["output_times"] = [x for x in times if x <= t_end]
@@ -110,28 +163,10 @@ def _drop_late_outputs(data: dict[str, Any], overrides: Sequence[str],
     return []
 
 
-def _note_dropped(dropped: list[float], config: Config) -> None:
-    """Say which inherited output times a valid configuration will not write."""
-    if dropped:
-        warnings.warn(f"time.output_times {fmt_value(dropped)} of the scenario come after "
-                      f"time.t_end = {config.time.t_end:g} s and are not written (set "
-                      "time.output_times to choose others)", ConfigNote, stacklevel=3)
-
-
 def _numbers(values: Any) -> bool:
     return isinstance(values, list) and all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in values)
 
-
-
-def apply_overrides(config: Config, overrides: Sequence[str]) -> Config:
-    """A copy of ``config`` with ``section.key=value`` overrides applied and re-validated."""
-    data = config.model_dump()
-    _apply(data, overrides)
-    dropped = _drop_late_outputs(data, overrides, explicit=False)
-    config = _validate(data)
-    _note_dropped(dropped, config)
-    return config
 
 
 def toml_literal(value: Any) -> str:
@@ -220,18 +255,45 @@ def _merge(data: dict[str, Any], layer: dict[str, Any]) -> None:
         data.setdefault(section, {}).update(table)
 
 
-def _apply(data: dict[str, Any], overrides: Sequence[str]) -> None:
-    for text in overrides:
-        key, sep, raw = text.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            raise ConfigError(f"--set expects section.key=value, got {text!r}")
+def _apply(data: dict[str, Any], overrides: Overrides) -> list[str]:
+    """Set each override's key in ``data``; return the keys set. Texts are
+    ``section.key=value`` with a TOML literal; a mapping holds Python values."""
+    if isinstance(overrides, str):
+        overrides = [overrides]
+    items: list[tuple[str, Any]] = []
+    if isinstance(overrides, Mapping):
+        items = [(str(key).strip(), python_value(value)) for key, value in overrides.items()]
+    else:
+        for text in overrides:
+            key, sep, raw = str(text).partition("=")
+            if not sep or not key.strip():
+                raise ConfigError(f"an override is section.key=value, got {text!r}")
+            items.append((key.strip(), parse_value(raw)))
+    for key, value in items:
         section, dot, name = key.partition(".")
         if not dot:
             raise ConfigError(f"unknown configuration key '{key}' (keys are section.key, "
                               f"sections: {', '.join(SECTIONS)})")
         _check_keys({section: {name: None}})
-        data[section][name] = parse_value(raw)
+        data[section][name] = value
+    return [key for key, _ in items]
+
+
+def python_value(value: Any) -> Any:
+    """A value given from Python as the configuration holds it: None unsets ("none"),
+    numpy scalars and tuples become Python numbers and lists."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool | str):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    if isinstance(value, list | tuple) or (hasattr(value, "tolist") and callable(value.tolist)):
+        items = value.tolist() if hasattr(value, "tolist") else value
+        return [python_value(v) for v in items] if isinstance(items, list) else items
+    return value
 
 
 def parse_value(raw: str) -> Any:

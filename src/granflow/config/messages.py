@@ -1,15 +1,33 @@
 """One-line messages for invalid configuration values, read from the schema's types and
-bounds: ``section.key = value: must be a number in (0, 1000]``."""
+bounds: ``section.key = value: must be a number in (0, 1000]``; and the notes (warnings)
+about valid ones, which point at the user's own line."""
 
 from __future__ import annotations
 
+import sys
+import warnings
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from types import NoneType, UnionType
 from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
 import annotated_types as at
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
+
+from granflow.config.schema import ConfigNote
+
+_PACKAGE = str(Path(__file__).resolve().parents[1])   # granflow's own source files
+
+
+def note(message: str) -> None:
+    """Warn with a ``ConfigNote`` attributed to the first caller outside granflow (the
+    user's line in a script or notebook), never to a line of granflow's source."""
+    frame, level = sys._getframe(1), 2
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(
+            _PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, ConfigNote, stacklevel=level)
 
 
 def one_line(error: Any, data: dict[str, Any], sections: Mapping[str, type[BaseModel]]) -> str:

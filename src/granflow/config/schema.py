@@ -186,7 +186,7 @@ class Time(_Section):
     dt_init: Step
     dt_max: Step
     dt_growth: Annotated[float, Field(ge=1, le=10)]
-    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (3.1)
+    adaptive: bool  # error-controlled steps; false keeps the paper's ramp (section 3.1)
     scheme: Literal["implicit-euler", "bdf2"]  # time scheme of (3.2a): order 1 or 2
     error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
     error_floor: Annotated[float, Field(gt=0, le=1e3)]  # adaptive: m/s, RMS speed floor
@@ -208,6 +208,8 @@ class Output(_Section):
     vtk_every: Count  # 0 = only at output_times
     checkpoint_every: Count  # 0 = only when interrupted or failed
     progress: bool
+    figure_format: Literal["png", "pdf", "svg"]  # plots/*.png, .pdf or .svg
+    dpi: Annotated[int, Field(ge=50, le=1200)]  # raster resolution (dots per inch)
 
 
 class ConfigModel(_Section):
@@ -226,6 +228,8 @@ class ConfigModel(_Section):
     surface_tension: SurfaceTension
     output: Output
 
+
+FIGURE_FORMATS: tuple[str, ...] = get_args(Output.model_fields["figure_format"].annotation)
 
 SECTIONS: dict[str, type[_Section]] = {
     name: field.annotation

@@ -1,52 +1,97 @@
-"""Figures of a collapse run, like the paper's (Figures 7-9, 12-15), and an animation."""
+"""Figures of a collapse run, like the paper's (Figures 7-9, 12-15), and its animation, drawn
+from the run directory's files through their readers (profiles, fields, diagnostics,
+frames): free surfaces, the static and flowing zones, velocity sections with where they
+are, the front and the kinetic energy (remeshes and the stop marked), the erosion figure
+over a layer (``io/erosion_plots.py``) and ``speed.gif`` (``io/animation.py``).
+
+Only output times the run reached are drawn; the last accepted state is drawn once, named
+for what it is ("at rest from t = ..." for a mass at rest, the status of a run that failed).
+"""
 
 from __future__ import annotations
 
-from pathlib import Path
+from dataclasses import dataclass
 from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
-from PIL import Image  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
 
+from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.geometry.domains import column  # noqa: E402
 from granflow.io import profiles  # noqa: E402
+from granflow.io.animation import animate  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.erosion_plots import plot_erosion  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
-from granflow.io.plots import save_figure  # noqa: E402
-from granflow.io.run_dir import RunDir  # noqa: E402
+from granflow.io.plots import FigureFormat  # noqa: E402
+from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
+
+STATIC, FLOWING = "0.62", "#bcd7ee"        # fills of the static and flowing zones
 
 
-def _profiles(run_dir: RunDir, kind: str, times: list[float]) -> list[tuple[float, dict]]:
-    """The profiles of ``kind`` at those of ``times`` that were written."""
-    out = []
-    for t in times:
-        found = profiles.profile_at(run_dir.root, kind, t)
-        if found is not None:
-            out.append((t, found))
-    return out
+@dataclass(frozen=True)
+class Final:
+    """The last accepted state: its time, its legend label and its free surface."""
+
+    t: float
+    label: str
+    surface: dict[str, np.ndarray]
 
 
-def _label(t: float, summary: dict[str, Any], prefix: str = "t = ") -> str:
-    """An output time's legend entry; "(rest state)" when it was written from the state at
-    rest because the run stopped before it (summary.json's outputs_at_rest)."""
-    rest = any(abs(t - x) < 1e-9 for x in summary.get("outputs_at_rest") or [])
-    return f"{prefix}{t:.2f} s" + (" (rest state)" if rest else "")
+@dataclass
+class View:
+    """What every figure of one run shares: labels, outline, times and their colours."""
+
+    run_dir: RunDir
+    config: Any
+    summary: dict[str, Any]
+    fmt: FigureFormat
+
+    def __post_init__(self) -> None:
+        g = self.config.geometry
+        self.x = "r" if g.axisymmetric else "x"          # the radius of a cylinder
+        self.bed = _bed_note(g.slope_deg, g.axisymmetric)
+        self.outline = initial_outline(self.config)
+        self.final = final_state(self.run_dir, self.summary)
+        rest = self.summary.get("outputs_at_rest") or [] if self.final is not None else []
+        drawn = [t for t in self.config.time.output_times
+                 if profiles.profile_at(self.run_dir.root, "free_surface", t) is not None
+                 and not any(abs(t - x) < 1e-9 for x in rest)]
+        # an output time at the last state (t_end) is the last state's curve, drawn once
+        self.times = [t for t in drawn if self.final is None or abs(t - self.final.t) > 1e-6]
+        cmap = plt.get_cmap("viridis")
+        n = max(len(self.times), 1)
+        self.colours = {t: cmap(0.9 * i / max(n - 1, 1)) for i, t in enumerate(self.times)}
+
+    def label(self, t: float) -> str:
+        return f"t = {t:.2f} s"
+
+    def aspect(self, xmax: float) -> str:
+        """True proportions, unless the flow ran out over more than 8 column heights (a
+        slope): then a stretched z, or the deposit would be a line."""
+        return "equal" if xmax <= 8 * self.config.geometry.height else "auto"
 
 
-def _final_surface(run_dir: RunDir, summary: dict[str, Any]) -> tuple[str, dict] | None:
-    """The last state's free surface (its final profile) and its legend label:
-    "at rest" when the run stopped by the rest rule, else the run's status."""
+def final_state(run_dir: RunDir, summary: dict[str, Any]) -> Final | None:
+    """The last state's free surface (profiles/free_surface_final.csv) and its label."""
     surface = profiles.final_profile(run_dir.root, "free_surface")
     t = summary.get("final_profiles_t")
     if surface is None or t is None:
         return None
-    what = "at rest" if summary.get("status") == "stopped" else summary.get("status", "end")
-    return f"{what}, t = {t:.2f} s", surface
+    status, stop = summary.get("status", "end"), summary.get("stop_time_s")
+    if status in ("stopped", "completed") and stop is not None:
+        label = f"at rest from t = {stop:.3f} s"
+    elif status == "completed":
+        label = f"t_end = {t:.2f} s, still moving"
+    else:
+        label = f"{status} at t = {t:.3f} s"
+    return Final(float(t), label, surface)
 
 
 def initial_outline(config: Any) -> np.ndarray:
@@ -59,80 +104,183 @@ def initial_outline(config: Any) -> np.ndarray:
 
 
 def plot_collapse(run_dir: RunDir, config: Any) -> None:
-    """Free surfaces, interfaces, velocity sections, front/energy history and a GIF, from
-    the run directory's files alone, through their readers (profiles, diagnostics, frames)."""
-    summary = RunDir.summary(run_dir.root)
-    final = _final_surface(run_dir, summary)
-    # output times after the mass came to rest hold the rest state: drawn once, as "at rest"
-    rest = summary.get("outputs_at_rest") or [] if final is not None else []
-    times = [t for t in config.time.output_times if not any(abs(t - x) < 1e-9 for x in rest)]
-    height = config.geometry.height
-    bed = _bed_note(config.geometry.slope_deg, config.geometry.axisymmetric)
-    x = "r" if config.geometry.axisymmetric else "x"     # the radius of a cylinder
-    outline = initial_outline(config)
-    fig, ax = plt.subplots(figsize=(8, 3))
-    ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
-    for t, prof in _profiles(run_dir, "free_surface", times):
-        ax.plot(prof["x"], prof["z"], label=_label(t, summary))
-    if final is not None:
-        ax.plot(final[1]["x"], final[1]["z"], color="k", lw=1.2, label=final[0])
-    ax.set(xlabel=f"{x} (m)", ylabel="z (m)", title=f"Free surface{bed}",
-           aspect=_aspect(ax, height))
-    _legend(ax)
-    save_figure(fig, run_dir.path("plots/free_surface.png"))
-
-    fig, ax = plt.subplots(figsize=(8, 3))
-    ax.plot(*outline.T, "--", color="0.6", lw=0.8, label="t = 0")
-    for t, prof in _profiles(run_dir, "interface", times):
-        line, = ax.plot(prof["x"], prof["z"], label=_label(t, summary))
-        surf = _profiles(run_dir, "free_surface", [t])
-        if surf:
-            ax.plot(surf[0][1]["x"], surf[0][1]["z"], ":", color=line.get_color(), lw=0.8)
-    ax.set(xlabel=f"{x} (m)", ylabel="z (m)", aspect=_aspect(ax, height),
-           title="Static/flowing interface: edges of the cells with |u| > 1 mm/s (steps "
-                 f"of one cell){bed}; dotted: free surface")
-    _legend(ax)
-    save_figure(fig, run_dir.path("plots/interface.png"))
-
-    sections = _profiles(run_dir, "velocity_sections", times)
-    if sections:
-        offsets = sorted({round(x, 6) for _, p in sections if p for x in p["section_x"]})
-        fig, axes = plt.subplots(2, len(offsets), figsize=(3.2 * len(offsets), 6),
-                                 squeeze=False, sharey=True)
-        for j, xs in enumerate(offsets):
-            for t, p in sections:
-                if not p:
-                    continue
-                m = np.isclose(p["section_x"], xs)
-                axes[0][j].plot(p["u_x"][m], p["z"][m], label=_label(t, summary, ""))
-                axes[1][j].plot(p["u_z"][m], p["z"][m])
-            axes[0][j].set_title(f"section {x} = {xs:.3f} m")
-            axes[0][j].set_xlabel(f"u_{x} (m/s)")
-            axes[1][j].set_xlabel("u_z (m/s)")
-        axes[0][0].set_ylabel("z (m)")
-        axes[1][0].set_ylabel("z (m)")
-        fig.suptitle(f"Velocity profiles across vertical sections{bed}", fontsize=10)
-        for a in axes.flat:
-            a.xaxis.set_major_locator(plt.MaxNLocator(4))
-        _legend(axes[0][0])
-        save_figure(fig, run_dir.path("plots/velocity_sections.png"))
-
-    diag = read_diagnostics(run_dir.root)
-    if len(diag):
-        fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.2))
-        a1.plot(diag["t"], diag["front_x"])
-        a1.set(xlabel="t (s)", ylabel=f"front {x} (m)", title=f"Front position{bed}")
-        a2.plot(diag["t"], diag["kinetic_energy"])
-        energy = "J" if config.geometry.axisymmetric else "J/m"   # whole body, or per metre
-        a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
-        save_figure(fig, run_dir.path("plots/front_and_energy.png"))
-
+    """Every figure of a collapse into plots/ (``output.figure_format``) and speed.gif."""
+    view = View(run_dir, config, RunDir.summary(run_dir.root), FigureFormat.of(config))
+    _free_surfaces(view)
+    _zones(view)
+    _sections(view)
+    _history(view)
     if config.geometry.erodible_thickness > 0:
-        plot_erosion(run_dir, config)
-
+        plot_erosion(run_dir, config, view.fmt)
     frames = read_frames(run_dir.root)
     if frames:
-        _animate(run_dir.path("plots/speed.gif"), frames, outline, height, bed, x)
+        animate(run_dir.path("plots/speed.gif"), frames, view.outline,
+                config.geometry.erodible_thickness, view.bed, view.x, view.fmt.dpi)
+
+
+def _free_surfaces(view: View) -> None:
+    fig, ax = plt.subplots(figsize=(8, 3.2))
+    ax.plot(*view.outline.T, "--", color="0.6", lw=0.8, label="t = 0")
+    for t in view.times:
+        prof = profiles.profile_at(view.run_dir.root, "free_surface", t)
+        ax.plot(prof["x"], prof["z"], color=view.colours[t], label=view.label(t))
+    if view.final is not None:
+        ax.plot(view.final.surface["x"], view.final.surface["z"], color="k", lw=1.3,
+                label=view.final.label)
+    ax.set(xlabel=f"{view.x} (m)", ylabel="z (m)", title=f"Free surface{view.bed}",
+           aspect=view.aspect(ax.dataLim.intervalx[1]))
+    _legend(ax)
+    view.fmt.save(fig, view.run_dir, "free_surface")
+
+
+def _zones(view: View) -> None:
+    """The static and flowing zones at each output time: the mass coloured by whether it
+    moves faster than 1 mm/s (from the VTU snapshot's vertex velocities), the interface
+    their 1 mm/s contour; without a snapshot, the profile's edge of the flowing cells."""
+    from granflow.io.vtk import read_snapshot
+
+    times = view.times
+    if not times:
+        return
+    front = max(float(np.nanmax(profiles.profile_at(view.run_dir.root, "free_surface", t)["x"]))
+                for t in times)
+    xmax = 1.04 * max(front, float(view.outline[:, 0].max()))
+    zmax = 1.06 * view.config.geometry.height
+    ncols = 2 if len(times) > 2 else 1
+    nrows = -(-len(times) // ncols)
+    aspect = view.aspect(xmax)
+    panel = (4.4 if ncols == 2 else 8.0) * zmax / xmax if aspect == "equal" else 1.4
+    fig, axes = plt.subplots(nrows, ncols, figsize=(9.0 if ncols == 2 else 8.0,
+                                                    0.9 + nrows * max(panel, 0.9)),
+                             sharex=True, sharey=True, squeeze=False, layout="constrained")
+    for ax, t in zip(axes.flat, times, strict=False):
+        ax.plot(*view.outline.T, "--", color="0.6", lw=0.7)
+        try:
+            snap = read_snapshot(view.run_dir.root, t)
+        except (RunDirError, ValueError, OSError, KeyError):   # no usable snapshot
+            snap = None
+        if snap is not None and "velocity" in snap.point_data:
+            mesh = mtri.Triangulation(snap.points[:, 0], snap.points[:, 1], snap.triangles)
+            speed = np.linalg.norm(snap["velocity"], axis=1)
+            top = max(float(speed.max()), 2 * FLOWING_SPEED)
+            ax.tricontourf(mesh, speed, levels=[0.0, FLOWING_SPEED, top],
+                           colors=[STATIC, FLOWING])
+            if speed.max() > FLOWING_SPEED > speed.min():
+                ax.tricontour(mesh, speed, levels=[FLOWING_SPEED], colors="tab:red",
+                              linewidths=1.1)
+        else:
+            line = profiles.profile_at(view.run_dir.root, "interface", t)
+            if line:
+                ax.plot(line["x"], line["z"], color="tab:red", lw=1.1)
+        surface = profiles.profile_at(view.run_dir.root, "free_surface", t)
+        ax.plot(surface["x"], surface["z"], color="k", lw=0.7)
+        ax.text(0.99, 0.93, view.label(t), transform=ax.transAxes, ha="right", va="top",
+                fontsize=9)
+        ax.set(xlim=(0, xmax), ylim=(0, zmax), aspect=aspect)
+    for ax in axes.flat[len(times):]:
+        ax.set_visible(False)
+    for j in range(min(ncols, len(times))):   # each column's lowest panel: the x axis
+        lowest = axes[(len(times) - 1 - j) // ncols, j]
+        lowest.xaxis.set_tick_params(labelbottom=True)
+        lowest.set_xlabel(f"{view.x} (m)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("z (m)")
+    handles = [Patch(color=STATIC, label="static, |u| < 1 mm/s"),
+               Patch(color=FLOWING, label="flowing"),
+               Line2D([], [], color="tab:red", label="interface, |u| = 1 mm/s"),
+               Line2D([], [], color="0.6", ls="--", label="t = 0")]
+    fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8,
+               frameon=False)
+    fig.suptitle(f"Static and flowing zones{view.bed}", fontsize=11)
+    view.fmt.save(fig, view.run_dir, "interface")
+
+
+def _sections(view: View) -> None:
+    """Velocity profiles along the verticals of profiles/velocity_sections_*.csv, with a
+    map of where they are (the initial front X_g at the bed, and 10 cm either side)."""
+    root = view.run_dir.root
+    found = [(t, p) for t in view.times
+             if (p := profiles.profile_at(root, "velocity_sections", t))]
+    if not found:
+        return
+    offsets = sorted({round(x, 6) for _, p in found for x in p["section_x"]})
+    n = len(offsets)
+    fig = plt.figure(figsize=(max(3.1 * n, 7.0), 8.2), layout="constrained")
+    grid = fig.add_gridspec(3, n, height_ratios=[0.8, 1, 1])
+    where = fig.add_subplot(grid[0, :])
+    where.plot(*view.outline.T, "--", color="0.6", lw=0.8, label="t = 0")
+    for t, _ in found:
+        surface = profiles.profile_at(root, "free_surface", t)
+        where.plot(surface["x"], surface["z"], color=view.colours[t], lw=0.9,
+                   label=view.label(t))
+    front0 = view.config.geometry.width
+    names = "ABCDEFGH"
+    for j, xs in enumerate(offsets):
+        where.axvline(xs, color="k", lw=0.8, ls=":")
+        where.annotate(f" {names[j]}", (xs, 0.97), xycoords=("data", "axes fraction"),
+                       ha="left", va="top", fontsize=9, weight="bold")
+    where.set(xlabel=f"{view.x} (m)", ylabel="z (m)", aspect=view.aspect(
+        where.dataLim.intervalx[1]), title=f"Where the sections are{view.bed}")
+    where.legend(fontsize=7, loc="upper right", ncols=2)
+    first = None
+    for j, xs in enumerate(offsets):
+        top = fig.add_subplot(grid[1, j], sharey=first)
+        bottom = fig.add_subplot(grid[2, j], sharey=top)
+        first = first or top
+        for t, p in found:
+            m = np.isclose(p["section_x"], xs)
+            top.plot(p["u_x"][m], p["z"][m], color=view.colours[t])
+            bottom.plot(p["u_z"][m], p["z"][m], color=view.colours[t])
+        shift = (xs - front0) * 100
+        where_text = "X_g" if abs(shift) < 0.05 else f"X_g {shift:+.0f} cm".replace("-", "−")
+        top.set_title(f"{names[j]}: {view.x} = {xs:.3f} m ({where_text})", fontsize=9)
+        top.set_xlabel(f"u_{view.x} (m/s)")
+        bottom.set_xlabel("u_z (m/s)")
+        for a in (top, bottom):
+            a.xaxis.set_major_locator(plt.MaxNLocator(4))
+            a.axvline(0, color="0.8", lw=0.6)
+        if j == 0:
+            top.set_ylabel("z (m)")
+            bottom.set_ylabel("z (m)")
+    fig.suptitle(f"Velocity across vertical sections; X_g: the initial front at the bed "
+                 f"({view.x} = {front0:g} m)", fontsize=10)
+    view.fmt.save(fig, view.run_dir, "velocity_sections")
+
+
+def _history(view: View) -> None:
+    """Front and kinetic energy against time, with the stop time, the remeshes (the velocity
+    carried to a new mesh) and the depositions (a free-surface edge that lands on the bed
+    takes its friction, Figure 2 of the paper) marked: each changes the energy at once."""
+    diag = read_diagnostics(view.run_dir.root)
+    if not len(diag):
+        return
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 3.4), layout="constrained")
+    a1.plot(diag["t"], diag["front_x"], color="C0")
+    a1.set(xlabel="t (s)", ylabel=f"front {view.x} (m)", title=f"Front position{view.bed}")
+    a2.plot(diag["t"], diag["kinetic_energy"], color="C0")
+    energy = "J" if view.config.geometry.axisymmetric else "J/m"   # whole body, per metre
+    a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
+    handles = []
+    for name, colour, style, words in (
+            ("remesh", "0.5", ":", "velocity carried to a new mesh"),
+            ("deposition", "tab:orange", "-.", "a surface edge lands on the bed")):
+        times = [t for t in view.summary.get(f"{name}_times_s") or []
+                 if isinstance(t, int | float)]
+        for t in times:
+            for a in (a1, a2):
+                a.axvline(t, color=colour, lw=0.6, ls=style)
+        if times:
+            handles.append(Line2D([], [], color=colour, lw=0.6, ls=style,
+                                  label=f"{name} ({len(times)}): {words}"))
+    stop = view.summary.get("stop_time_s")
+    if isinstance(stop, int | float):
+        for a in (a1, a2):
+            a.axvline(stop, color="k", lw=0.9, ls="--")
+        handles.append(Line2D([], [], color="k", lw=0.9, ls="--",
+                              label=f"at rest from t = {stop:.3f} s"))
+    if handles:
+        a2.legend(handles=handles, fontsize=7, loc="upper right")
+    view.fmt.save(fig, view.run_dir, "front_and_energy")
 
 
 def _bed_note(slope_deg: float, axisymmetric: bool = False) -> str:
@@ -143,53 +291,6 @@ def _bed_note(slope_deg: float, axisymmetric: bool = False) -> str:
     return f" (x along the bed, inclined at {slope_deg:g}°)" if slope_deg else ""
 
 
-def _aspect(ax: plt.Axes, height: float) -> str:
-    """True proportions, unless the flow ran out over more than 8 column heights (a slope):
-    then a stretched Z, or the deposit would be a line."""
-    xmin, xmax = ax.dataLim.intervalx
-    return "equal" if xmax - xmin <= 8 * height else "auto"
-
-
 def _legend(ax: plt.Axes) -> None:
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
-
-
-def _animate(path: Path, frames: list[dict[str, Any]], outline: np.ndarray,
-             height: float, bed: str = "", x: str = "x") -> None:
-    """The GIF of the cell speeds: axes, ticks and outline are drawn once; each frame
-    redraws only its mesh colours, interface and title over that background (blitting)
-    and goes to Pillow as it is: a fifth of the time of redrawing whole figures."""
-    xmax = max(f["xy"][:, 0].max() for f in frames) * 1.02
-    vmax = max(float(f["speed"].max()) for f in frames) or 1.0
-    fig, ax = plt.subplots(figsize=(8.6, 3.0))
-    ax.plot(*outline.T, "--", color="0.6", lw=0.8)
-    ax.set(xlim=(0, xmax), ylim=(0, height * 1.05), aspect="equal", xlabel=f"{x} (m)",
-           ylabel="z (m)")
-    scale = plt.cm.ScalarMappable(norm=plt.Normalize(0, vmax), cmap="viridis")
-    fig.colorbar(scale, ax=ax, label="speed |u| (m/s)", fraction=0.025, pad=0.02)
-    title = ax.set_title(" " * 80)
-    fig.tight_layout()
-    fig.canvas.draw()
-    title.set_animated(True)
-    background = fig.canvas.copy_from_bbox(fig.bbox)
-    images = []
-    for f in frames:
-        fig.canvas.restore_region(background)
-        cells = ax.tripcolor(f["xy"][:, 0], f["xy"][:, 1], f["tri"], facecolors=f["speed"],
-                             vmin=0, vmax=vmax, cmap="viridis", edgecolors="none",
-                             animated=True)
-        line, = ax.plot(f["interface"][:, 0], f["interface"][:, 1], "r-", lw=1,
-                        animated=True)
-        title.set_text(f"t = {f['t']:.3f} s; red: static/flowing interface{bed}")
-        for artist in (cells, line, title):
-            ax.draw_artist(artist)
-        rgba = np.asarray(fig.canvas.buffer_rgba())
-        images.append(Image.fromarray(rgba[..., :3].copy()))
-        cells.remove()
-        line.remove()
-    plt.close(fig)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.gif")
-    images[0].save(tmp, save_all=True, append_images=images[1:], duration=100, loop=0)
-    tmp.replace(path)

@@ -15,12 +15,13 @@ import numpy as np  # noqa: E402
 
 from granflow.io import profiles  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
-from granflow.io.plots import save_figure  # noqa: E402
+from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
 
-def plot_erosion(run_dir: RunDir, config: Any) -> None:
-    """plots/erosion.png, if the run has written its layer's profiles."""
+def plot_erosion(run_dir: RunDir, config: Any, fmt: FigureFormat | None = None) -> None:
+    """plots/erosion.png (or the configured format), if the run has written its layer's
+    profiles."""
     markers = profiles.final_profile(run_dir.root, "layer_markers")
     found = profiles.list_profiles(run_dir.root, "layer_markers")
     if markers is None and found:
@@ -34,7 +35,7 @@ def plot_erosion(run_dir: RunDir, config: Any) -> None:
     _depths(axes[1], run_dir, x, he)
     _history(axes[2], run_dir, x)
     fig.tight_layout()
-    save_figure(fig, run_dir.path("plots/erosion.png"))
+    (fmt or FigureFormat.of(config)).save(fig, run_dir, "erosion")
 
 
 def _deposit(ax: plt.Axes, run_dir: RunDir, markers: dict[str, np.ndarray], x: str,

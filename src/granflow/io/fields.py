@@ -2,9 +2,11 @@
 times, every ``output.vtk_every`` steps and at the last accepted state); the file format,
 its index and its reader are ``io/vtk.py``.
 
-Point data: velocity (m/s), pressure (Pa). Cell data: speed (m/s), strain_rate_norm (1/s),
-effective_viscosity (Pa s) and the flowing flag (speed above 1 mm/s); with a layer of its
-own material also layer_fraction (the share of layer material in each triangle).
+Point data: velocity (m/s), pressure (Pa). Cell data (means over each triangle): speed
+(m/s), strain_rate_norm (1/s), effective_viscosity (Pa s), the flowing flag (speed above
+1 mm/s), the stress stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder) and
+deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``); with a layer of
+its own material also layer_fraction (the share of layer material in each triangle).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from typing import Any, Protocol
 import ngsolve as ngs
 
 from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.diagnostics.stress import static_yield_stress, stress_components, yield_ratio
 from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
@@ -41,11 +44,16 @@ class FieldSnapshots:
         self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
 
     def write(self, t: float) -> None:
-        """Velocity, pressure, |Du|, effective viscosity and the flowing flag at time t."""
+        """Velocity, pressure, |Du|, effective viscosity, the flowing flag, the stress and
+        the yield ratio at time t."""
         solver, mesh = self.state.solver, self.state.mesh
         speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
         materials = ({"layer_fraction": solver.rheology.per_triangle.vec.FV().NumPy().copy()}
                      if isinstance(solver.rheology, TwoMaterials) else {})
+        stress = {name: cell_means(mesh, cf)[0]
+                  for name, cf in stress_components(solver).items()}
+        kappa = cell_means(mesh, static_yield_stress(solver.rheology, solver.pressure))[0]
+        stress["yield_ratio"] = yield_ratio(stress["deviatoric_stress_norm"], kappa)
         self.series.write(
             t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),
             point_data={"velocity": vertex_samples(mesh, solver.velocity),
@@ -53,7 +61,8 @@ class FieldSnapshots:
             cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
                        "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
                        "effective_viscosity":
-                           cell_means(mesh, solver.effective_viscosity())[0], **materials})
+                           cell_means(mesh, solver.effective_viscosity())[0],
+                       **stress, **materials})
 
     def write_last(self, t: float) -> None:
         """A snapshot at ``t`` unless the last one already is at that time."""

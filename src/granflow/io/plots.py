@@ -1,8 +1,11 @@
-"""Matplotlib figures of a run (PNG, headless)."""
+"""Matplotlib figures of a run (headless), and how they are written: PNG, PDF or SVG at the
+configured resolution (``output.figure_format``, ``output.dpi``)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -10,20 +13,42 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from granflow.io.run_dir import RunDir, atomic_file  # noqa: E402
 
-def save_figure(fig: plt.Figure, path: Path, dpi: int = 130, **kwargs: object) -> None:
-    """Save ``fig`` to ``path`` atomically (a temporary file renamed over it: a killed run
-    leaves no half image) and close it. ``kwargs`` go to ``savefig``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=dpi, **({"bbox_inches": "tight"} | kwargs))
+
+@dataclass(frozen=True)
+class FigureFormat:
+    """How a run's figures are written: ``plots/NAME.SUFFIX``, rasters at ``dpi``."""
+
+    suffix: str = "png"
+    dpi: int = 150
+
+    @classmethod
+    def of(cls, config: Any) -> FigureFormat:
+        """The format a configuration asks for ([output] figure_format and dpi)."""
+        return cls(config.output.figure_format, config.output.dpi)
+
+    def path(self, run_dir: RunDir, name: str) -> Path:
+        return run_dir.path(f"plots/{name}.{self.suffix}")
+
+    def save(self, fig: plt.Figure, run_dir: RunDir, name: str) -> Path:
+        """``fig`` as plots/NAME in this format; returns the file."""
+        path = self.path(run_dir, name)
+        save_figure(fig, path, dpi=self.dpi)
+        return path
+
+
+def save_figure(fig: plt.Figure, path: Path, dpi: int = 150, **kwargs: object) -> None:
+    """Save ``fig`` to ``path`` (its suffix gives the format) atomically, through a fresh
+    temporary file renamed over it (a killed run leaves no half image; no existing name or
+    link is written through), and close it. ``kwargs`` go to ``savefig``."""
+    with atomic_file(Path(path)) as tmp:
+        fig.savefig(tmp, dpi=dpi, **({"bbox_inches": "tight"} | kwargs))
     plt.close(fig)
-    tmp.replace(path)
 
 
 def plot_plug_profile(path: Path, z: np.ndarray, u: np.ndarray, reference: np.ndarray,
-                      t: float) -> None:
+                      t: float, dpi: int = 150) -> None:
     """The 2D velocity along a vertical against the 1D reference of (4.1)."""
     fig, ax = plt.subplots(figsize=(4.5, 5))
     ax.plot(reference, z, "k-", lw=2, label="1D reference (4.1)")
@@ -32,7 +57,7 @@ def plot_plug_profile(path: Path, z: np.ndarray, u: np.ndarray, reference: np.nd
     ax.set_ylabel("Z (m)")
     ax.set_title(f"Plug flow, t = {t:.3f} s")
     ax.legend(loc="upper left")
-    save_figure(fig, path)
+    save_figure(fig, path, dpi=dpi)
 
 
 def plot_convergence_table(path: Path, results: list, table: int) -> None:

@@ -68,6 +68,14 @@ class Fields:
     point_data: dict[str, np.ndarray]        # e.g. velocity (n, 2), pressure (n,)
     cell_data: dict[str, np.ndarray]
 
+    def __repr__(self) -> str:
+        def names(data: dict[str, np.ndarray]) -> str:
+            return ", ".join(data) or "none"
+
+        return (f"Fields(t = {self.t:g} s, {len(self.points)} points, {len(self.triangles)} "
+                f"triangles; point data: {names(self.point_data)}; cell data: "
+                f"{names(self.cell_data)})")
+
     def __getitem__(self, name: str) -> np.ndarray:
         if name in self.point_data:
             return self.point_data[name]

@@ -21,7 +21,7 @@ from granflow.diagnostics.inertial import InertialNumbers
 from granflow.diagnostics.interface import lower_envelope
 from granflow.diagnostics.state import FLOWING_SPEED, flowing_cells
 from granflow.fem.engine import NGSOLVE_OPS
-from granflow.fem.sampling import cell_means, point_values, triangles
+from granflow.fem.sampling import cell_means, point_values, triangles, vertex_samples
 from granflow.geometry.mesh import signed_areas
 from granflow.physics import MuI
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
@@ -146,12 +146,15 @@ class ColumnMeasures:
         return {**out, **(self.layer.profiles() if self.layer is not None else {})}
 
     def frame(self, sim: Simulation) -> dict[str, Any]:
-        """A frame of the animation: mesh, cell speeds and the interface."""
+        """A frame of the animation: mesh, cell speeds, the speed of the P2 velocity at the
+        vertices (for smooth shading) and the interface."""
         mesh = self.current.mesh
-        speed, _ = cell_means(mesh, ngs.Norm(self.current.solver.velocity))
+        velocity = self.current.solver.velocity
+        speed, _ = cell_means(mesh, ngs.Norm(velocity))
         xy = mesh.ngmesh.Coordinates().copy()
         stations = np.linspace(0.0, xy[:, 0].max(), 120)
         return {"t": sim.t, "xy": xy, "tri": triangles(mesh), "speed": speed,
+                "vertex_speed": np.linalg.norm(vertex_samples(mesh, velocity), axis=1),
                 "interface": np.column_stack([stations, self.interface(stations)])}
 
     def summary(self, result: RunResult) -> dict[str, Any]:

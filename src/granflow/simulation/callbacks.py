@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from tqdm import tqdm
 
@@ -51,9 +52,9 @@ class ProgressBar:
 
     def __init__(self, t_end: float, enabled: bool = True, initial: float = 0.0) -> None:
         self.enabled = enabled
-        self.bar = tqdm(total=t_end, initial=initial, unit="s", disable=not enabled,
-                        dynamic_ncols=True,
-                        bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}]{postfix}")
+        self.bar = _bar_class()(
+            total=t_end, initial=initial, unit="s", disable=not enabled, dynamic_ncols=True,
+            bar_format="{l_bar}{bar}| t={n:.4f}/{total:.3g} s [{elapsed}]{postfix}")
 
     def __call__(self, sim: Simulation) -> None:
         self.bar.update(sim.dt)
@@ -74,16 +75,34 @@ class ProgressBar:
         remaining = bar.format_dict["elapsed"] * (bar.total - t) / done
         return f" eta<{remaining:.0f}s"
 
-    def close(self, note: str = "") -> None:
-        """Close the bar with ``note`` after it (why it stopped short of t_end, say)."""
+    def close(self, note: str = "", complete: bool = False) -> None:
+        """Close the bar with ``note`` after it (why it stopped short of t_end, say);
+        ``complete``: the run ended early as it should (at rest), so the bar ends at 100 %
+        of the time it ran."""
+        if complete and self.enabled and self.bar.n > 0:
+            self.bar.total = self.bar.n
         if note:
-            self.bar.set_postfix_str(note, refresh=True)
+            self.bar.set_postfix_str(note, refresh=False)
+        self.bar.refresh()
         self.bar.close()
 
     def say(self, text: str) -> None:
         """A line under the closed bar: what the run does next, so the screen is not silent."""
         if self.enabled:
             tqdm.write(text)
+
+
+def _bar_class() -> Any:
+    """tqdm's notebook widget in a Jupyter kernel that has ipywidgets, else the text bar
+    (which a notebook without ipywidgets shows as updating text)."""
+    if "ipykernel" in sys.modules:
+        try:
+            import ipywidgets  # noqa: F401
+            from tqdm.notebook import tqdm as notebook_bar
+        except ImportError:
+            return tqdm
+        return notebook_bar
+    return tqdm
 
 
 class TimeInterval:

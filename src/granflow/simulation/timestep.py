@@ -49,7 +49,7 @@ def _stops(stops: list[float], t_end: float) -> list[float]:
 
 @dataclass
 class RampedStep:
-    """dt_{n+1} = growth * dt_n from dt_init up to dt_max; tol ramps likewise (3.1).
+    """dt_{n+1} = growth * dt_n from dt_init up to dt_max; tol ramps likewise (section 3.1).
 
     A rejected step halves dt. The ramp's own dt (``dt``) is kept apart from the reduced
     step that follows a rejection (``recovering``), which then doubles back up to it on each

@@ -1,0 +1,52 @@
+"""The stress of the accepted state and how close it is to yield, from the solver's public
+fields: sigma = sigma' - p Id (2.2) with the regularised sigma' = m(|Du|, p) Du of (2.13),
+and the yield ratio |sigma'| / kappa, kappa = sqrt(2) mu_s [p]_+ (2.4): the material is
+rigid where (2.3) holds, |sigma'| <= kappa, i.e. a ratio below 1; |.| is the Frobenius norm,
+so in simple shear the ratio is tau / (mu_s p).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.flow import FlowSolver
+from granflow.physics.ops import Ops
+from granflow.physics.regions import TwoMaterials, blend
+
+
+def static_yield_stress(law: Any, pressure: Any, ops: Ops = NGSOLVE_OPS) -> Any:
+    """kappa = sqrt(2) mu_s [p]_+ (2.4) with the law's static friction mu_s (mu(I)'s at
+    I = 0); for a column over a layer of its own material, each material's."""
+    if isinstance(law, TwoMaterials):
+        return blend(static_yield_stress(law.column, pressure, ops),
+                     static_yield_stress(law.layer, pressure, ops), law.fraction)
+    return math.sqrt(2.0) * law.mu_s * ops.positive_part(pressure)
+
+
+def stress_components(solver: FlowSolver) -> dict[str, ngs.CoefficientFunction]:
+    """The Cauchy stress sigma = m Du - p Id (Pa): its in-plane components xx, zz, xz (x
+    along the bed, z normal to it; r, z for a cylinder, with the hoop component), and
+    |sigma'| = m |Du|, the Frobenius norm of its deviatoric part."""
+    du = solver.coordinates.strain_rate(solver.velocity)
+    m, p = solver.effective_viscosity(), solver.pressure
+    out = {"stress_xx": m * du[0, 0] - p, "stress_zz": m * du[1, 1] - p,
+           "stress_xz": m * du[0, 1]}
+    if solver.coordinates.axisymmetric:
+        out["stress_hoop"] = m * du[2, 2] - p
+    out["deviatoric_stress_norm"] = m * solver.strain_rate_norm()
+    return out
+
+
+def yield_ratio(deviatoric_norm: np.ndarray, yield_stress: np.ndarray) -> np.ndarray:
+    """|sigma'| / kappa per cell (from cell means); NaN where kappa vanishes (no pressure,
+    or no friction: a purely viscous material has no yield stress)."""
+    kappa = np.asarray(yield_stress, dtype=float)
+    ratio = np.full(kappa.shape, np.nan)
+    positive = kappa > 0
+    ratio[positive] = np.asarray(deviatoric_norm, dtype=float)[positive] / kappa[positive]
+    return ratio

@@ -1,0 +1,250 @@
+"""The numbers the documentation quotes from benchmarks/results/ are those files' numbers.
+
+``CLAIMS`` declares each one: the page, the text around it as the page says it (``{}``
+where the number stands; whitespace and line breaks do not matter), the results file, where
+the number is in it, and how the page rounds it. A benchmark rerun that moves a number, or
+a page edited by hand, makes this test fail until both agree again. The examples' figures
+on docs/examples.md are checked to be there, one per script.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+RESULTS = ROOT / "benchmarks" / "results"
+
+Path_ = str | Callable[[Any], float]
+
+SPEED_T = "speed_default_install/trapezoid.json"
+SPEED_R = "speed_default_install/rectangle.json"
+UMFPACK_T = "speed_default_install/umfpack/trapezoid.json"
+EULER = "time_scheme/time_scheme.json"
+TABLE1, TABLE2 = "plug_flow/table1.json", "plug_flow/table2.json"
+ITERATIONS = "plug_flow/iterations.json"
+INCLINE = "incline/incline.json"
+ASPECT = "aspect_ratio/aspect_ratio.json"
+CYLINDER = "aspect_ratio_cylinder/aspect_ratio.json"
+FIRST_RUNS = "collapse/paper.json"
+
+
+def _rectangles_vs(law: str) -> Callable[[Any], float]:
+    """How much longer (in %) than a published law the rectangles run out at a = 4."""
+    def value(d: Any) -> float:
+        i = d["a"].index(4.0)
+        return 100 * (d["normalised_runout"][i] / d["published_runout"][law][i] - 1)
+    return value
+
+
+def _cylinders(select: Callable[[float], bool], quantity: str = "runout") -> Callable:
+    """Relative gaps (%) of the cylinders to Lube's law, or their final heights."""
+    def values(d: Any) -> list[float]:
+        if quantity == "height":
+            return [h for a, h in zip(d["a"], d["final_height"], strict=True) if select(a)]
+        return [100 * (r / lube - 1) for a, r, lube in zip(
+            d["a"], d["normalised_runout"], d["lube_2004_runout"], strict=True) if select(a)]
+    return values
+
+
+CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
+    # page, text, results file, JSON path (or a function of the JSON), format, scale
+    # --- the paper's algorithm (benchmarks/speed.py case A) and the fast path (B)
+    ("README.md", "stops the trapezoid at {} s (paper 0.86 s)", SPEED_T, "A.stop_time_s",
+     ".3f", 1),
+    ("README.md", "with a runout of {} m; granflow's default", SPEED_T, "A.runout_m", ".3f", 1),
+    ("README.md", "default fast path at {} s", SPEED_T, "B.stop_time_s", ".3f", 1),
+    ("README.md", "s and {} m, 6.2 times", SPEED_T, "B.runout_m", ".3f", 1),
+    ("README.md", "m, {} times faster", SPEED_T, "speedup", ".1f", 1),
+    ("README.md", "The rectangle stops at {} s", SPEED_R, "A.stop_time_s", ".2f", 1),
+    ("docs/verification.md", "| stop time (every cell below 1 mm/s) | {} s (paper 0.86 s)",
+     SPEED_T, "A.stop_time_s", ".4f", 1),
+    ("docs/verification.md", "s (paper \"around 0.92 s\") |\n| runout | {} m", SPEED_T,
+     "A.runout_m", ".4f", 1),
+    ("docs/verification.md", "| 0.5951 s (paper \"around 0.92 s\")", SPEED_R,
+     "A.stop_time_s", ".4f", 1),
+    ("docs/verification.md", "| {} s (paper \"around 0.92 s\")", SPEED_R, "A.stop_time_s",
+     ".4f", 1),
+    ("docs/verification.md", "| runout | 0.6633 m | {} m |", SPEED_R, "A.runout_m", ".4f", 1),
+    ("docs/verification.md", "| the paper: 0.86 s | - | {} s |", SPEED_T, "A.stop_time_s",
+     ".3f", 1),
+    ("docs/verification.md", "about 0.6 s | - | {} s |", SPEED_R, "A.stop_time_s", ".3f", 1),
+    ("docs/user_guide.md", "It stops the trapezoid at {} s", SPEED_T, "A.stop_time_s",
+     ".4f", 1),
+    ("docs/user_guide.md", "with a runout of {} m and the rectangle", SPEED_T, "A.runout_m",
+     ".4f", 1),
+    ("docs/user_guide.md", "and the rectangle at {} s", SPEED_R, "A.stop_time_s", ".4f", 1),
+    ("docs/user_guide.md", "s and {} m (`benchmarks/results/speed_default_install/`",
+     SPEED_R, "A.runout_m", ".4f", 1),
+    ("docs/user_guide.md", "the fast path: {} s", SPEED_T, "B.stop_time_s", ".4f", 1),
+    ("docs/user_guide.md", "s and {} m, 0.5973 s", SPEED_T, "B.runout_m", ".4f", 1),
+    ("docs/user_guide.md", "m, {} s and 0.4254 m)", SPEED_R, "B.stop_time_s", ".4f", 1),
+    ("docs/user_guide.md", "s and {} m). Adding", SPEED_R, "B.runout_m", ".4f", 1),
+    ("docs/user_guide.md", "(trapezoid {} s and", FIRST_RUNS, "trapezoid-rigid.stop_time_s",
+     ".3f", 1),
+    ("docs/user_guide.md", "s and {} m, `benchmarks/results/collapse/paper.json`",
+     FIRST_RUNS, "trapezoid-rigid.runout_m", ".3f", 1),
+    ("docs/performance.md", "{} steps, 3,578 nonlinear iterations", SPEED_T, "B.steps",
+     ",d", 1),
+    ("docs/performance.md", "{} nonlinear iterations, 5,491", SPEED_T,
+     "B.nonlinear_iterations", ",d", 1),
+    ("docs/performance.md", "{} linear solves, 4 remeshes", SPEED_T, "B.linear_solves",
+     ",d", 1),
+    ("docs/performance.md", "at rest from {} s with a runout", SPEED_T, "B.stop_time_s",
+     ".4f", 1),
+    ("docs/performance.md", "with a runout of {} m; a time loop", SPEED_T, "B.runout_m",
+     ".4f", 1),
+    ("docs/performance.md", "a time loop of {} s,", SPEED_T, "B.wall_time_s", ".1f", 1),
+    ("docs/performance.md", "{} s for the whole process", SPEED_T,
+     "B_process_wall_time_median_s", ".1f", 1),
+    ("docs/performance.md", "case A below, {} times slower", SPEED_T, "speedup", ".1f", 1),
+    ("docs/performance.md", "UMFPACK stopped at {} s", UMFPACK_T, "B.stop_time_s", ".4f", 1),
+    ("docs/performance.md", "s with {} m (below)", UMFPACK_T, "B.runout_m", ".4f", 1),
+    # --- the fast path against a reference converged in time
+    ("README.md", "within {} mm on average", EULER,
+     "runs.implicit-euler.against_reference.surface_mean_m", ".2f", 1000),
+    ("README.md", "and {} mm at most of a reference", EULER,
+     "runs.implicit-euler.against_reference.surface_max_m", ".1f", 1000),
+    ("docs/verification.md", "stop time 2 %; runout 5 mm | {} mm,", EULER,
+     "runs.implicit-euler.against_reference.surface_mean_m", ".2f", 1000),
+    ("docs/verification.md", "mm, {} mm; 0.30 %", EULER,
+     "runs.implicit-euler.against_reference.surface_max_m", ".2f", 1000),
+    ("docs/verification.md", "mm; {} %; 1.7 mm | pass", EULER,
+     "runs.implicit-euler.against_reference.stop_time_rel", ".2f", 100),
+    ("docs/verification.md", "%; {} mm | pass", EULER,
+     "runs.implicit-euler.against_reference.runout_m", ".1f", 1000),
+    # --- the plug flow
+    ("README.md", "below the paper's error (ratios {}–", TABLE1, "min:results[eps!=0.01].ratio",
+     ".2f", 1),
+    ("README.md", "–{}), Table 2", TABLE1, "max:results[eps!=0.01].ratio", ".2f", 1),
+    ("README.md", "Table 2 (moving mesh) at {}–", TABLE2, "min:results.ratio", ".2f", 1),
+    ("README.md", "–{} of the paper's errors", TABLE2, "max:results.ratio", ".2f", 1),
+    ("docs/verification.md", "| {}–0.68 × the paper's error | pass", TABLE1,
+     "min:results[eps!=0.01].ratio", ".2f", 1),
+    ("docs/verification.md", "0.09–{} × the paper's error | pass", TABLE1,
+     "max:results[eps!=0.01].ratio", ".2f", 1),
+    ("docs/verification.md", "| {}–0.41 × the paper's error;", TABLE2, "min:results.ratio",
+     ".2f", 1),
+    ("docs/verification.md", "0.08–{} × the paper's error;", TABLE2, "max:results.ratio",
+     ".2f", 1),
+    ("docs/verification.md", "volume errors {} to 5.9e-7", TABLE2, "min:results.volume_error",
+     ".1e", 1),
+    ("docs/verification.md", "volume errors 1.1e-8 to {} | pass", TABLE2,
+     "max:results.volume_error", ".1e", 1),
+    ("docs/verification.md", "| {}, 2,917, 4,859, 5,064 |", ITERATIONS,
+     "[eps=0.01].iterations", ",d", 1),
+    ("docs/verification.md", "| 811, {}, 4,859, 5,064 |", ITERATIONS,
+     "[eps=0.0001].iterations", ",d", 1),
+    ("docs/verification.md", "| 811, 2,917, {}, 5,064 |", ITERATIONS,
+     "[eps=1e-06].iterations", ",d", 1),
+    ("docs/verification.md", "| 811, 2,917, 4,859, {} |", ITERATIONS,
+     "[eps=1e-08].iterations", ",d", 1),
+    # --- the incline
+    ("README.md", "(second order, {} at 32 cells)", INCLINE,
+     "[case=mu-i 23 deg&cells=32].error_exact", ".1e", 1),
+    ("README.md", "holds the parabola to {}.", INCLINE,
+     "max:[case=drucker-prager 25 deg].error_exact", ".0e", 1),
+    ("docs/verification.md", "| {} at 32 cells, second order | pass", INCLINE,
+     "[case=mu-i 23 deg&cells=32].error_exact", ".1e", 1),
+    ("docs/verification.md", "| 1 % (tests) | {} | pass", INCLINE,
+     "max:[case=drucker-prager 25 deg].error_exact", ".0e", 1),
+    # --- the aspect-ratio studies
+    ("README.md", "below both at a = 0.5), {}–", ASPECT,
+     _rectangles_vs("Lajeunesse et al. 2005"), ".0f", 1),
+    ("README.md", "–{} % longer at a = 4", ASPECT, _rectangles_vs("Lube et al. 2005"),
+     ".0f", 1),
+    ("docs/verification.md", "at a = 0.5; {}–38 % longer", ASPECT,
+     _rectangles_vs("Lajeunesse et al. 2005"), ".0f", 1),
+    ("docs/verification.md", "–{} % longer at a = 4 | differs", ASPECT,
+     _rectangles_vs("Lube et al. 2005"), ".0f", 1),
+    ("README.md", "run out within {} % of Lube", CYLINDER,
+     lambda d: max(abs(x) for x in _cylinders(lambda a: 0.9 < a < 2.1)(d)), ".1f", 1),
+    ("docs/verification.md", "| Lube et al. (2004) | - | within {} % | agrees", CYLINDER,
+     lambda d: max(abs(x) for x in _cylinders(lambda a: 0.9 < a < 2.1)(d)), ".1f", 1),
+    ("README.md", "level off at {}–0.79 r0", CYLINDER,
+     lambda d: min(_cylinders(lambda a: a > 1.9, "height")(d)), ".2f", 1),
+    ("README.md", "level off at 0.74–{} r0", CYLINDER,
+     lambda d: max(_cylinders(lambda a: a > 1.9, "height")(d)), ".2f", 1),
+    ("docs/verification.md", "| {}–0.79 r0 | agrees", CYLINDER,
+     lambda d: min(_cylinders(lambda a: a > 1.9, "height")(d)), ".2f", 1),
+    ("docs/verification.md", "| 0.74–{} r0 | agrees", CYLINDER,
+     lambda d: max(_cylinders(lambda a: a > 1.9, "height")(d)), ".2f", 1),
+    ("README.md", "(a^{} against a^(1/2))", CYLINDER,
+     lambda d: d["fits"]["runout_a>=1.7"]["exponent"], ".2f", 1),
+    ("docs/verification.md", "| a^{} | differs", CYLINDER,
+     lambda d: d["fits"]["runout_a>=1.7"]["exponent"], ".2f", 1),
+    ("README.md", "(a = 3 to 6) run out {}–", CYLINDER,
+     lambda d: min(_cylinders(lambda a: a > 2.9)(d)), ".0f", 1),
+    ("README.md", "–{} % further", CYLINDER, lambda d: max(_cylinders(lambda a: a > 2.9)(d)),
+     ".0f", 1),
+]
+
+
+def lookup(data: Any, path: Path_) -> Any:
+    """The value at ``path``: keys and list filters separated by dots (``A.stop_time_s``,
+    ``results[eps!=0.01].ratio``, ``[case=mu-i 23 deg&cells=32].error_exact``), with
+    ``min:`` or ``max:`` over the values a filter leaves; or a function of the data."""
+    if callable(path):
+        return path(data)
+    reduce, _, path = path.rpartition(":") if path[:4] in ("min:", "max:") else ("", "", path)
+    values = [data]
+    for part in re.findall(r"\[[^\]]*\]|[^.\[]+", path):
+        if part.startswith("["):
+            values = [item for v in values for item in v if _matches(item, part[1:-1])]
+        else:
+            values = [v[part] if isinstance(v, dict) else item[part]
+                      for v in values for item in ([v] if isinstance(v, dict) else v)]
+    if reduce:
+        return {"min": min, "max": max}[reduce](values)
+    assert len(values) == 1, f"{path} selects {len(values)} values"
+    return values[0]
+
+
+def _matches(item: dict[str, Any], conditions: str) -> bool:
+    for condition in conditions.split("&"):
+        key, op, wanted = re.match(r"([^!=]+)(!?=)(.*)", condition).groups()  # type: ignore[union-attr]
+        value = item.get(key)
+        try:
+            equal = math.isclose(float(value), float(wanted))
+        except (TypeError, ValueError):
+            equal = str(value) == wanted
+        if equal != (op == "="):
+            return False
+    return True
+
+
+def formatted(value: float, spec: str, scale: float) -> str:
+    """``value * scale`` as the pages write it: 2.1e-5 (no exponent padding), 3,578."""
+    if spec == ",d":
+        return f"{round(value * scale):,d}"
+    text = format(value * scale, spec)
+    return re.sub(r"e([+-])0*(\d)", lambda m: f"e{'-' if m[1] == '-' else ''}{m[2]}", text)
+
+
+def words(text: str) -> str:
+    return re.sub(r"\s+", " ", text)
+
+
+@pytest.mark.parametrize("page, text, results, path, spec, scale", CLAIMS,
+                         ids=[f"{c[0]}:{c[1][:40]}" for c in CLAIMS])
+def test_a_documented_number_is_its_results_files(page: str, text: str, results: str,
+                                                  path: Path_, spec: str,
+                                                  scale: float) -> None:
+    value = lookup(json.loads((RESULTS / results).read_text()), path)
+    quoted = words(text.format(formatted(value, spec, scale)))
+    assert quoted in words((ROOT / page).read_text(encoding="utf-8")), (
+        f"{page} should say '{quoted}' ({results}: {path})")
+
+
+def test_each_example_shows_its_figure() -> None:
+    page = (ROOT / "docs" / "examples.md").read_text(encoding="utf-8")
+    for script in sorted((ROOT / "examples").glob("*.py")):
+        figure = f"img/examples/{script.stem}.png"
+        assert f"examples/{script.name}" in page and figure in page, script.name
+        assert (ROOT / "docs" / figure).is_file(), figure
