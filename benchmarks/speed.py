@@ -3,6 +3,11 @@ one invocation, on the same mesh.
 
 Run: python benchmarks/speed.py [--cases trapezoid rectangle erodible plug-flow stall ...]
          [--repeat N] [--process] [--today] [--half-step] [--out benchmarks/results/speed]
+     python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
+         [--out benchmarks/results/speed_targets]
+
+--targets times the erodible scenarios against their rigid twins, as users run them
+(``granflow run`` in a new process, figures included, ``speed_targets.py``): see there.
 
 A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.1
 (dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh
@@ -93,6 +98,11 @@ def compare(name: str, repeat: int, out: Path, today: bool = False,
 
 
 def main(argv: list[str]) -> None:
+    if "--targets" in argv:
+        from speed_targets import main as targets
+
+        targets([a for a in argv if a != "--targets"])
+        return
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--cases", nargs="+", default=["trapezoid", "rectangle", "plug-flow"],
                         choices=sorted(CASES))

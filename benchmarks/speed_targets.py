@@ -1,0 +1,119 @@
+"""Benchmark: what an erodible layer costs against a rigid bed, and the default collapse
+against an earlier version of granflow, each run as users run it, side by side.
+
+Run: python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
+         [--pairs trapezoid cylinder slope22] [--out benchmarks/results/speed_targets]
+
+Every run is ``granflow run SCENARIO --quiet`` in a new process (figures and animation
+included), one after the other and alternating within each pair, so that both members of a
+pair see the same load on this shared machine; the medians over REPEAT rounds and their
+ratio are reported, with each run's loop time (summary.json), steps and iterations:
+
+* trapezoid: ``trapezoid-erodible`` against ``trapezoid-rigid``;
+* cylinder: ``cylinder-erodible`` against ``cylinder-rigid``;
+* slope22: the slope study's 22-degree erodible trapezoid (``erosion_slopes.py``: 5 mm,
+  layer 1.3 times the rigid runout, meshed 0.1 m ahead of the flow) against its rigid twin;
+* baseline (with ``--baseline-src``, the ``src`` folder of a checkout of an earlier
+  commit): ``trapezoid-rigid`` run by that code (``PYTHONPATH``) against this one.
+
+Writes OUT/speed_targets.json and prints a table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from erosion_slopes import overrides as slope_overrides
+
+from granflow.io.run_dir import atomic_write_text
+
+RIGID_22_RUNOUT_M = 4.5125   # the slope study's rigid trapezoid at 22 degrees (its JSON)
+PAIRS = {
+    "trapezoid": (("trapezoid-rigid", []), ("trapezoid-erodible", [])),
+    "cylinder": (("cylinder-rigid", []), ("cylinder-erodible", [])),
+    "slope22": (("trapezoid-rigid", slope_overrides("drucker-prager", "trapezoid", 0.0, 22.0,
+                                                     None)),
+                ("trapezoid-rigid", slope_overrides("drucker-prager", "trapezoid", 0.005, 22.0,
+                                                     RIGID_22_RUNOUT_M))),
+}
+KEYS = ["status", "wall_time_s", "steps", "nonlinear_iterations", "n_triangles",
+        "stop_time_s", "runout_m"]
+
+
+def run(scenario: str, sets: list[str], out: Path, src: Path | None = None) -> dict:
+    """One ``granflow run`` in a new process; its whole wall time and summary figures."""
+    env = dict(os.environ)
+    if src is not None:
+        env["PYTHONPATH"] = str(src)
+    command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out),
+               "--force", "--quiet", *(arg for o in sets for arg in ("--set", o))]
+    start = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, env=env)
+    wall = time.perf_counter() - start
+    summary = json.loads((out / "summary.json").read_text())
+    return {"process_wall_time_s": wall} | {k: summary.get(k) for k in KEYS}
+
+
+def compare(name: str, first: tuple[str, list[str], Path | None],
+            second: tuple[str, list[str], Path | None], repeat: int, out: Path) -> dict:
+    """Both members of a pair, alternately, REPEAT times; medians and their ratio."""
+    runs: dict[str, list[dict]] = {"first": [], "second": []}
+    for k in range(repeat):
+        for label, (scenario, sets, src) in (("first", first), ("second", second)):
+            result = run(scenario, sets, out / name / f"{label}{k}", src)
+            runs[label].append(result)
+            print(name, label, k, json.dumps(result), flush=True)
+    median = {label: statistics.median(r["process_wall_time_s"] for r in rows)
+              for label, rows in runs.items()}
+    loop = {label: statistics.median(r["wall_time_s"] for r in rows)
+            for label, rows in runs.items()}
+    return {"first": {"scenario": first[0], "overrides": first[1],
+                      "src": str(first[2]) if first[2] else None},
+            "second": {"scenario": second[0], "overrides": second[1],
+                       "src": str(second[2]) if second[2] else None},
+            "runs": runs, "process_wall_time_median_s": median,
+            "loop_wall_time_median_s": loop,
+            "ratio_second_to_first": median["second"] / median["first"],
+            "loop_ratio_second_to_first": loop["second"] / loop["first"]}
+
+
+def main(argv: list[str]) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pairs", nargs="+", default=list(PAIRS), choices=list(PAIRS))
+    parser.add_argument("--baseline-src", type=Path,
+                        help="src folder of an earlier granflow checkout: time its default "
+                             "collapse against this one's")
+    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed_targets"))
+    args = parser.parse_args(argv)
+    results_file = args.out / "speed_targets.json"
+    results = json.loads(results_file.read_text()) if results_file.is_file() else {}
+    cases = {name: ((*PAIRS[name][0], None), (*PAIRS[name][1], None)) for name in args.pairs}
+    if args.baseline_src is not None:
+        cases["baseline"] = (("trapezoid-rigid", [], args.baseline_src.resolve()),
+                             ("trapezoid-rigid", [], None))
+    for name, (first, second) in cases.items():
+        results[name] = compare(name, first, second, args.repeat, args.out / "runs")
+        atomic_write_text(results_file, json.dumps(results, indent=2))
+    lines = ["| pair | first | second | process (s), first / second | second / first | "
+             "loop (s), first / second | iterations, first / second |",
+             "|---|---|---|---|---|---|---|"]
+    for name, r in results.items():
+        p, lp = r["process_wall_time_median_s"], r["loop_wall_time_median_s"]
+        its = [r["runs"][k][0]["nonlinear_iterations"] for k in ("first", "second")]
+        lines.append(f"| {name} | {r['first']['scenario']} | {r['second']['scenario']} | "
+                     f"{p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} | "
+                     f"{lp['first']:.1f} / {lp['second']:.1f} | {its[0]} / {its[1]} |")
+    print("\n".join(lines))
+    atomic_write_text(args.out / "speed_targets.md", "\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
