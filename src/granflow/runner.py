@@ -195,6 +195,7 @@ class _Run:
                 outputs |= output.save_state()
         write_checkpoint(self.run_dir, SimulationState(
             loop=s.save_state(), scenario=self.problem.save_state(), outputs=outputs))
+        fresh_factorisations(self.problem)
 
     # --- the run --------------------------------------------------------------------------
     def execute(self) -> dict[str, Any]:
@@ -289,6 +290,17 @@ def _rest_since(sim: Simulation) -> float | None:
     """When the mass came to rest, by the stop criterion that ended the run."""
     return next((float(c.rest_since) for c in sim.stop_criteria
                  if getattr(c, "rest_since", None) is not None), None)
+
+
+def fresh_factorisations(problem: Problem) -> None:
+    """After a checkpoint the sparse LUs start afresh, as they do in a run resumed from it:
+    PARDISO's analysis (pivot order, scaling) reads the matrix's values, so reusing one made
+    on an earlier step's matrix gives round-off differences that the nonlinear iteration
+    counts then amplify (a resumed run would not repeat the run that wrote the checkpoint)."""
+    problem.solver.nonlinear.reset_factorisations()
+    velocity = getattr(problem.simulation.mesh_motion, "velocity_solver", None)
+    if velocity is not None:
+        velocity.forget_factorisation()
 
 
 @contextlib.contextmanager

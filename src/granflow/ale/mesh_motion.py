@@ -43,6 +43,10 @@ class _LinearMeshVelocity:
         self._lu.update()
         return self.solve_again()
 
+    def forget_factorisation(self) -> None:
+        """The next ``compute`` factorises afresh (symbolic analysis included)."""
+        self._lu.reset()
+
     def solve_again(self) -> ngs.GridFunction:
         """Solve for another source velocity on the same mesh (the LU is reused)."""
         self._f.Assemble()
