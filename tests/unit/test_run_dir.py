@@ -40,13 +40,22 @@ def test_create_accepts_an_empty_folder_and_replaces_a_previous_run_only_with_fo
     RunDir.create(tmp_path)  # empty
     run = RunDir.create(tmp_path / "run")
     run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
-    run.write_text("profiles/old.csv", "x\n")
+    written = ["summary.json", "diagnostics.csv", "traceback.txt", "profiles/units.json",
+               "profiles/free_surface_t0.300.csv", "profiles/velocity_final.csv",
+               "fields/fields.pvd", "fields/fields_00012.vtu", "frames/frame_00003.npz",
+               "plots/free_surface.png", "plots/speed.gif", "checkpoint/state.npz",
+               "fields/.fields.pvd.tmp", ".summary.json.k2j3h4g5.tmp.json"]
+    for name in written:
+        run.write_text(name, "x\n")
+    mine = ["notes.txt", "profiles/my_analysis.py", "plots/draft.txt", "paper/fig.png"]
+    for name in mine:
+        run.write_text(name, "mine\n")
     assert RunDir.is_run_dir(run.root)
     with pytest.raises(RunDirError, match="already holds a run; use --force"):
         RunDir.create(run.root)
-    assert (run.root / "profiles/old.csv").exists()
+    assert (run.root / "profiles/free_surface_t0.300.csv").exists()
     RunDir.create(run.root, force=True)      # cleared: old and new files never mix
-    assert files_in(run.root) == [LOCK_FILE] or files_in(run.root) == []
+    assert files_in(run.root) == sorted([LOCK_FILE, *mine])   # ... and the user's stay
 
 
 def test_an_empty_or_unwritable_out_is_an_error(tmp_path: Path) -> None:

@@ -12,12 +12,15 @@ row; a resumed run first cuts it back to the rows its checkpoint had seen, then 
 
 from __future__ import annotations
 
+import io
 import math
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from granflow.io.run_dir import CsvLog, RunDir, atomic_write_bytes
+from granflow.io.untrusted import RunDirError, is_regular, read_text
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -62,15 +65,24 @@ def read_diagnostics(root: Path) -> pd.DataFrame:
     import pandas as pd
 
     path = Path(root, FILE)
-    if not path.is_file() or path.stat().st_size == 0:
+    text = read_text(path) if os.path.lexists(path) else ""
+    if not text:
         return pd.DataFrame(columns=COLUMNS)
-    return pd.read_csv(path)
+    try:
+        table = pd.read_csv(io.StringIO(text))
+    except (ValueError, pd.errors.ParserError) as err:
+        raise RunDirError(f"'{path}' is not a CSV table: {str(err).strip()[:200]}") from None
+    odd = [c for c in table.columns if table[c].dtype.kind not in "biuf"]
+    if "t" not in table.columns or odd:
+        raise RunDirError(f"'{path}' is not granflow's diagnostics: "
+                          + (f"column {odd[0]!r} is not numbers" if odd else "no column t"))
+    return table
 
 
 def _truncate_rows(path: Path, rows: int) -> None:
     """Keep the header and the first ``rows`` rows of the log (those the checkpoint has
     seen): rows written after it by the killed run are replayed by the resumed one."""
-    if not path.is_file():
+    if not is_regular(path):
         return
-    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    lines = read_text(path).splitlines(keepends=True)
     atomic_write_bytes(path, "".join(lines[:rows + 1]).encode("utf-8"))

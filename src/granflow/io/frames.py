@@ -8,6 +8,7 @@ has to stay in memory or in a checkpoint.
 from __future__ import annotations
 
 import io
+import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -15,9 +16,11 @@ from typing import Any
 import numpy as np
 
 from granflow.io.run_dir import RunDir
+from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
 
 FRAMES = "frames"
 INTERVAL_S = 0.02   # simulated time between frames
+FRAME_LIMIT = 64 * MB   # a frame of the largest mesh allowed is ~10 MB
 
 
 class AnimationFrames:
@@ -47,13 +50,30 @@ def write_frame(run_dir: RunDir, index: int, frame: dict[str, Any]) -> None:
 
 
 def read_frames(root: Path) -> list[dict[str, Any]]:
-    """Every readable frame of the run in ``root``, in time order."""
+    """Every readable frame of the run in ``root``, in time order; a file that is not a
+    frame (cut short, not a regular file, an archive of something else) is left out."""
     frames = []
     for path in sorted((Path(root) / FRAMES).glob("frame_*.npz")):
         try:
-            with np.load(path) as data:
-                frames.append({k: data[k] for k in data.files})
-        except (OSError, ValueError, EOFError):   # a file cut by a kill (not renamed yet)
+            frame = load_npz(read_bytes(path, FRAME_LIMIT), path, FRAME_LIMIT)
+        except RunDirError:
             continue
+        if _valid(frame):
+            frames.append(frame)
     frames.sort(key=lambda f: float(f["t"]))
     return frames
+
+
+def _valid(frame: dict[str, np.ndarray]) -> bool:
+    """A finite time; numbers only; a mesh whose triangles index its vertices."""
+    t = frame.get("t")
+    if t is None or t.shape != () or t.dtype.kind not in "iuf" or not math.isfinite(t):
+        return False
+    if any(v.dtype.kind not in "biuf" for v in frame.values()):
+        return False
+    xy, tri = frame.get("xy"), frame.get("tri")
+    if xy is None or tri is None:
+        return True
+    return (xy.ndim == 2 and xy.shape[1] == 2 and bool(np.isfinite(xy).all())
+            and tri.ndim == 2 and tri.shape[1] == 3 and tri.dtype.kind in "iu"
+            and (tri.size == 0 or (tri.min() >= 0 and tri.max() < len(xy))))

@@ -13,6 +13,8 @@ x runs along the bed, z normal to it.
 from __future__ import annotations
 
 import csv
+import io
+import os
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -22,6 +24,7 @@ import numpy as np
 
 from granflow.diagnostics.compare import surface_distance
 from granflow.io.run_dir import RunDir
+from granflow.io.untrusted import RunDirError, read_text
 
 FOLDER = "profiles"
 FINAL = "final"
@@ -84,13 +87,13 @@ def list_profiles(root: Path, kind: str) -> list[ProfileFile]:
 def profile_at(root: Path, kind: str, t: float) -> Profile | None:
     """The profile of ``kind`` written at output time ``t`` (None if there is none)."""
     path = Path(root, FOLDER, f"{kind}_{label_of(t)}.csv")
-    return read_profile(path) if path.is_file() else None
+    return read_profile(path) if os.path.lexists(path) else None
 
 
 def final_profile(root: Path, kind: str) -> Profile | None:
     """The profile of ``kind`` of the last accepted state (None if there is none)."""
     path = Path(root, FOLDER, f"{kind}_{FINAL}.csv")
-    return read_profile(path) if path.is_file() else None
+    return read_profile(path) if os.path.lexists(path) else None
 
 
 def curves(root: Path, kind: str,
@@ -131,19 +134,35 @@ def surface_distances(first: Path, second: Path, kind: str = "free_surface",
 
 
 def read_profile(path: Path) -> Profile:
-    """Columns by name (empty cells and "nan" as NaN); {} for a file with no rows."""
-    with open(path, newline="", encoding="utf-8") as fh:
-        rows = list(csv.DictReader(fh))
+    """Columns by name (empty cells and "nan" as NaN); {} for a file with no rows. A file
+    that is not such a table (not UTF-8, a cell that is not a number, a row of another
+    length) is a ``RunDirError``."""
+    rows = _rows(path)
     if not rows:
         return {}
-    return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan for r in rows])
-            for k in rows[0]}
+    try:
+        return {k: np.array([float(r[k]) if r[k] not in ("", "nan") else np.nan
+                             for r in rows]) for k in rows[0] if isinstance(k, str)}
+    except (TypeError, ValueError) as err:
+        raise RunDirError(f"'{path}' is not a table of numbers: {err}") from None
+
+
+def _rows(path: Path) -> list[dict[str, str]]:
+    try:
+        rows = list(csv.DictReader(io.StringIO(read_text(path), newline="")))
+    except csv.Error as err:
+        raise RunDirError(f"'{path}' is not a CSV table: {err}") from None
+    if any(None in row or None in row.values() for row in rows):
+        raise RunDirError(f"'{path}': a row has another number of cells than the header")
+    return rows
 
 
 def _final_time(path: Path) -> float | None:
     """The time column's value in a final profile, None if it has none (older runs)."""
-    with open(path, newline="", encoding="utf-8") as fh:
-        row = next(csv.DictReader(fh), None)
-    if row is None or not row.get("t"):
+    rows = _rows(path)
+    if not rows or not rows[0].get("t"):
         return None
-    return float(row["t"])
+    try:
+        return float(rows[0]["t"])
+    except ValueError:
+        raise RunDirError(f"'{path}': its time {rows[0]['t'][:40]!r} is not a number") from None

@@ -1,27 +1,34 @@
 """The run directory: every file of a run, written so that a killed run leaves each file it
-had finished readable.
+had finished readable, and never anything outside the folder.
 
 Whole files (config, summary, profiles, figures, fields) are written atomically: to a
-temporary file in the same folder, flushed and fsync'ed, then renamed over the target with
-``os.replace``. Logs that grow during the run (``diagnostics.csv``) are append-only and
-flushed after every row, so at worst the last row is missing.
+temporary file created exclusively beside the target (a fresh random name, never through
+an existing name or link), flushed and fsync'ed, then renamed over the target with
+``os.replace`` (which replaces a link in the target's place, not the file it points to).
+Logs that grow during the run (``diagnostics.csv``) are append-only and flushed after every
+row, so at worst the last row is missing. A run directory may come from someone else: its
+files are read through ``io/untrusted.py``.
 """
 
 from __future__ import annotations
 
 import contextlib
 import csv
+import errno
 import io
 import json
 import math
 import os
-import shutil
+import re
+import stat
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
 from filelock import FileLock, Timeout
+
+from granflow.io.untrusted import MB, RunDirError, is_regular, read_bytes, read_text
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
            "atomic_write_text"]
@@ -30,18 +37,25 @@ __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes
 RUN_MARKER_FILE = "config.toml"
 RUN_MARKER_PREFIX = "# granflow"
 LOCK_FILE = ".granflow.lock"   # held (flock) by the process writing into the folder
-
-
-class RunDirError(Exception):
-    """The run directory cannot be created or used (the message says why)."""
+# What a run writes (``--force`` deletes these and nothing else): files at the top, and
+# per folder the names of its files.
+RUN_FILES = ("config.toml", "summary.json", "diagnostics.csv", "traceback.txt")
+RUN_FOLDERS = {
+    "profiles": re.compile(r"[a-z_]+_(t\d+(\.\d+)?|final)\.csv|units\.json|final_error\.txt"),
+    "fields": re.compile(r"fields_\d+\.vtu|fields\.pvd"),
+    "frames": re.compile(r"frame_\d+\.npz"),
+    "plots": re.compile(r"[A-Za-z0-9_-]+\.(png|pdf|svg|gif)|error\.txt"),
+    "checkpoint": re.compile(r"state\.(npz|pkl)"),
+}
+# temporary files: this module's (``_atomic``) and the fixed names of earlier versions
+TEMPORARY = re.compile(r"\..+\.tmp(\.[A-Za-z0-9]+)?|\.granflow\.lock\.probe")
+SUMMARY_LIMIT = 16 * MB
 
 
 def atomic_write_bytes(target: Path, data: bytes) -> None:
     """Write ``data`` to ``target`` all at once: temp file, fsync, rename."""
-    with _atomic(target) as tmp, open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-        os.fsync(f.fileno())
+    with _atomic(target, data):
+        pass
 
 
 def atomic_write_text(target: Path, text: str) -> None:
@@ -51,20 +65,29 @@ def atomic_write_text(target: Path, text: str) -> None:
 
 @contextlib.contextmanager
 def atomic_file(target: Path) -> Iterator[Path]:
-    """A temporary path to write (matplotlib, csv) that replaces ``target`` on success."""
+    """A temporary path to write (matplotlib, meshio, PIL) that replaces ``target`` on
+    success; the file exists (empty) under a fresh random name, so a writer that opens the
+    path by name writes into it and nowhere else."""
     with _atomic(Path(target)) as tmp:
         yield tmp
 
 
 @contextlib.contextmanager
-def _atomic(target: Path) -> Iterator[Path]:
-    """Yield a temporary path beside ``target`` (same suffix); rename it over ``target``
-    if the block succeeds, delete it otherwise."""
+def _atomic(target: Path, data: bytes | None = None) -> Iterator[Path]:
+    """Yield a temporary path beside ``target`` (same suffix), created exclusively
+    (``mkstemp``: O_CREAT | O_EXCL, a random name); ``data``, if given, is written through
+    that descriptor. The file is renamed over ``target`` if the block succeeds, deleted
+    otherwise."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}.", suffix=target.suffix)
-    os.close(fd)
+    fd, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
+                                suffix=f".tmp{target.suffix}")
     tmp = Path(name)
     try:
+        with os.fdopen(fd, "wb") as f:
+            if data is not None:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
         yield tmp
         os.chmod(tmp, 0o644)  # mkstemp makes it 0600
         os.replace(tmp, target)
@@ -117,7 +140,7 @@ class RunDir:
                                       f"to replace it, or `granflow resume {path}` to continue it")
                 run = cls(path)
                 with run.lock():
-                    run._clear()
+                    run.clear()
                 return run
             path.mkdir(parents=True, exist_ok=True)
             probe = path / f".{LOCK_FILE}.probe"
@@ -127,15 +150,34 @@ class RunDir:
             raise RunDirError(f"cannot use output folder '{path}': {err.strerror or err}") from None
         return cls(path)
 
-    def _clear(self) -> None:
-        """Delete everything in the folder except the lock file."""
-        for entry in self.root.iterdir():
-            if entry.name == LOCK_FILE:
+    def clear(self) -> None:
+        """Delete what a run wrote (``RUN_FILES``, the files of ``RUN_FOLDERS`` and the
+        temporary files) and nothing else: other files stay, and so do the folders that
+        hold them. A link in a run file's place is deleted, never followed."""
+        for name in RUN_FILES:
+            _unlink(self.root / name)
+        self.remove_temporary_files()
+        for folder, names in RUN_FOLDERS.items():
+            path = self.root / folder
+            if path.is_symlink() or (path.exists() and not path.is_dir()):
+                _unlink(path)
                 continue
-            if entry.is_dir() and not entry.is_symlink():
-                shutil.rmtree(entry)
-            else:
-                entry.unlink()
+            if not path.is_dir():
+                continue
+            for entry in path.iterdir():
+                if names.fullmatch(entry.name) and not _is_folder(entry):
+                    _unlink(entry)
+            with contextlib.suppress(OSError):
+                path.rmdir()            # only if nothing else is left in it
+
+    def remove_temporary_files(self) -> None:
+        """The temporary files a killed run left behind (never renamed into place)."""
+        for folder in (self.root, *(self.root / f for f in RUN_FOLDERS)):
+            if not folder.is_dir() or folder.is_symlink():
+                continue
+            for entry in folder.iterdir():
+                if TEMPORARY.fullmatch(entry.name) and not _is_folder(entry):
+                    _unlink(entry)
 
     @contextlib.contextmanager
     def lock(self) -> Iterator[None]:
@@ -163,20 +205,20 @@ class RunDir:
 
     @staticmethod
     def is_run_dir(path: Path) -> bool:
-        """True if ``path`` holds a config.toml written by granflow."""
-        marker = Path(path) / RUN_MARKER_FILE
+        """True if ``path`` holds a config.toml written by granflow (a regular file)."""
         try:
-            with open(marker, encoding="utf-8") as f:
-                return f.readline().startswith(RUN_MARKER_PREFIX)
-        except (OSError, UnicodeDecodeError):
+            return read_bytes(Path(path) / RUN_MARKER_FILE, MB).startswith(
+                RUN_MARKER_PREFIX.encode())
+        except RunDirError:
             return False
 
     @staticmethod
     def summary(path: Path) -> dict[str, Any]:
-        """``path``/summary.json, or {} without a readable one."""
+        """``path``/summary.json, or {} without a readable one (missing, not a regular
+        file, not JSON, not an object)."""
         try:
-            summary = json.loads((Path(path) / "summary.json").read_text())
-        except (OSError, ValueError):
+            summary = json.loads(read_text(Path(path) / "summary.json", SUMMARY_LIMIT))
+        except (RunDirError, ValueError, RecursionError):
             return {}
         return summary if isinstance(summary, dict) else {}
 
@@ -186,11 +228,17 @@ class RunDir:
         return RunDir.summary(path).get("status")
 
     def path(self, relpath: str | Path) -> Path:
-        """Absolute path of ``relpath`` inside the run directory; its parent folders exist."""
+        """Absolute path of ``relpath`` inside the run directory; its parent folders exist
+        (a link that leads out of the folder is refused)."""
         target = (self.root / relpath).resolve()
         if not target.is_relative_to(self.root.resolve()):
-            raise RunDirError(f"'{relpath}' is outside the run directory '{self.root}'")
-        target.parent.mkdir(parents=True, exist_ok=True)
+            raise RunDirError(f"'{self.root / relpath}' leads outside the run directory "
+                              f"'{self.root}' (a symbolic link?); refused")
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise RunDirError(f"cannot create the folder '{target.parent}' of the run: "
+                              f"{err.strerror or err}") from None
         return target
 
     @contextlib.contextmanager
@@ -204,7 +252,10 @@ class RunDir:
 
     def write_bytes(self, relpath: str | Path, data: bytes) -> Path:
         target = self.path(relpath)
-        atomic_write_bytes(target, data)
+        try:
+            atomic_write_bytes(target, data)
+        except OSError as err:       # a full disk, a folder in the file's place
+            raise RunDirError(f"cannot write '{target}': {err.strerror or err}") from None
         return target
 
     def write_text(self, relpath: str | Path, text: str) -> Path:
@@ -240,19 +291,17 @@ class CsvLog:
         self.path = Path(path)
         self.header = list(header)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        existing = resume and self.path.is_file() and self.path.stat().st_size > 0
+        existing = resume and is_regular(self.path) and self.path.stat().st_size > 0
         if existing:
-            with open(self.path, newline="", encoding="utf-8") as f:
+            with io.StringIO(read_text(self.path), newline="") as f:
                 found = next(csv.reader(f), [])
             if found != self.header:
                 raise RunDirError(f"cannot append to '{self.path}': its header {found} "
                                   f"differs from {self.header}")
-        self._file: TextIO = open(self.path, "a" if existing else "w",  # noqa: SIM115
-                                  newline="", encoding="utf-8")
+        else:   # a fresh log replaces whatever has the name (a link is not followed)
+            atomic_write_bytes(self.path, _csv_line(self.header).encode("utf-8"))
+        self._file: TextIO = _open_append(self.path)
         self._writer = csv.writer(self._file, lineterminator="\n")
-        if not existing:
-            self._writer.writerow(self.header)
-            self._file.flush()
 
     def append(self, row: Sequence[Any] | Mapping[str, Any]) -> None:
         """Append one row: a sequence in header order, or a mapping with every header key."""
@@ -280,3 +329,41 @@ class CsvLog:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _csv_line(row: Sequence[Any]) -> str:
+    buffer = io.StringIO()
+    csv.writer(buffer, lineterminator="\n").writerow(row)
+    return buffer.getvalue()
+
+
+def _open_append(path: Path) -> TextIO:
+    """``path`` opened to append, only if it is a regular file itself (not a link, not a
+    FIFO: opening one to write would block)."""
+    flags = os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
+    try:
+        fd = os.open(path, flags)
+    except OSError as err:
+        reason = ("it is a symbolic link" if err.errno == errno.ELOOP
+                  else err.strerror or str(err))
+        raise RunDirError(f"cannot append to '{path}': {reason}") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise RunDirError(f"cannot append to '{path}': not a regular file")
+    os.set_blocking(fd, True)
+    return open(fd, "a", newline="", encoding="utf-8")  # noqa: SIM115
+
+
+def _is_folder(path: Path) -> bool:
+    """A folder itself (a link to one is not)."""
+    try:
+        return stat.S_ISDIR(os.lstat(path).st_mode)
+    except OSError:
+        return False
+
+
+def _unlink(path: Path) -> None:
+    """Delete the file or link ``path`` (a folder in its place is left alone)."""
+    if not _is_folder(path):
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()

@@ -1,21 +1,35 @@
 """VTU snapshots and their PVD index for ParaView (``fields/``): written and read with
-meshio; ``read_snapshot`` is the reader of what ``VtkSeries`` writes."""
+meshio; ``read_snapshot`` is the reader of what ``VtkSeries`` writes.
+
+The reader treats the files as untrusted (``io/untrusted.py``, ``io/vtu_check.py``): the
+index may only name snapshot files of its own folder, an XML file with a DTD is refused,
+a VTU is checked before meshio reads it, and whatever meshio raises (or its ``sys.exit``
+on a file it cannot read) becomes one ``RunDirError``.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import io
+import math
 import os
+import re
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from xml.etree import ElementTree
 from xml.sax.saxutils import quoteattr
 
 import meshio
 import numpy as np
 
-from granflow.io.run_dir import RunDirError
+from granflow.io.run_dir import RunDirError, atomic_file, atomic_write_text
+from granflow.io.untrusted import MB, parse_xml, read_bytes
+from granflow.io.vtu_check import VTU_LIMIT, check_vtu
 
 FOLDER = "fields"
 INDEX = "fields.pvd"
+INDEX_LIMIT = 16 * MB
+_SNAPSHOT = re.compile(r"[A-Za-z0-9_-]{1,100}\.vtu")   # a file of fields/ itself
 
 
 class VtkSeries:
@@ -33,9 +47,8 @@ class VtkSeries:
         pdata = {k: _as_3d(v) for k, v in point_data.items()}
         mesh = meshio.Mesh(pts, [("triangle", triangles)], point_data=pdata,
                            cell_data={k: [np.asarray(v)] for k, v in cell_data.items()})
-        tmp = self.folder / f".{name}.tmp"
-        meshio.write(tmp, mesh, file_format="vtu")
-        os.replace(tmp, self.folder / name)
+        with atomic_file(self.folder / name) as tmp:
+            meshio.write(tmp, mesh, file_format="vtu")
         self.entries.append((t, name))
         self._write_index()
         return self.folder / name
@@ -45,9 +58,7 @@ class VtkSeries:
                          for t, f in self.entries)
         text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                 f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
-        tmp = self.folder / ".fields.pvd.tmp"
-        tmp.write_text(text)
-        os.replace(tmp, self.folder / INDEX)
+        atomic_write_text(self.folder / INDEX, text)
 
 
 def _as_3d(values: np.ndarray) -> np.ndarray:
@@ -88,11 +99,25 @@ class Fields:
 def snapshots(root: Path) -> list[tuple[float, str]]:
     """(time, file name) of every snapshot of the run in ``root``, from fields.pvd."""
     index = Path(root, FOLDER, INDEX)
-    if not index.is_file():
+    if not os.path.lexists(index):
         return []
-    tree = ElementTree.parse(index)
-    return [(float(e.get("timestep", "nan")), str(e.get("file")))
-            for e in tree.iter("DataSet") if e.get("file")]
+    found = []
+    for entry in parse_xml(read_bytes(index, INDEX_LIMIT), index).iter("DataSet"):
+        name, time = entry.get("file"), entry.get("timestep", "nan")
+        if not name:
+            continue
+        if not _SNAPSHOT.fullmatch(name):
+            raise RunDirError(f"'{index}' names {name[:80]!r}, which is not a snapshot file "
+                              f"of {FOLDER}/; refused")
+        try:
+            t = float(time)
+        except ValueError:
+            t = math.nan
+        if not math.isfinite(t):
+            raise RunDirError(f"'{index}': the snapshot {name} has no valid time "
+                              f"({time[:40]!r})")
+        found.append((t, name))
+    return found
 
 
 def read_snapshot(root: Path, t: float) -> Fields:
@@ -101,13 +126,45 @@ def read_snapshot(root: Path, t: float) -> Fields:
     if not found:
         raise RunDirError(f"'{root}' holds no field snapshots ({FOLDER}/{INDEX})")
     nearest, name = min(found, key=lambda item: abs(item[0] - t))
-    if abs(nearest - t) > 1e-6:
+    if not abs(nearest - t) <= 1e-6:
         raise ValueError(f"no snapshot at t = {t:g} s; snapshots at "
                          f"{', '.join(f'{s:g}' for s, _ in found)} s")
-    mesh = meshio.read(Path(root, FOLDER, name))
-    return Fields(t=nearest, points=mesh.points[:, :2], triangles=mesh.cells_dict["triangle"],
-                  point_data={k: _planar(v) for k, v in mesh.point_data.items()},
-                  cell_data={k: v[0] for k, v in mesh.cell_data.items()})
+    path = Path(root, FOLDER, name)
+    data = read_bytes(path, VTU_LIMIT)
+    check_vtu(data, path)
+    try:   # meshio reads files by name: the checked bytes, from a private copy
+        with tempfile.TemporaryDirectory() as folder:
+            copy = Path(folder, "snapshot.vtu")
+            copy.write_bytes(data)
+            with contextlib.redirect_stdout(io.StringIO()):   # meshio prints its errors
+                mesh = meshio.read(copy, file_format="vtu")
+    except (Exception, SystemExit) as err:   # meshio exits on a file it cannot read
+        raise RunDirError(f"cannot read the snapshot '{path}': {type(err).__name__}: "
+                          f"{str(err)[:200]}") from None
+    return _fields(mesh, nearest, path)
+
+
+def _fields(mesh: meshio.Mesh, t: float, path: Path) -> Fields:
+    """The snapshot's arrays, checked against each other: finite points, triangles that
+    index them, one value per point or per triangle."""
+    points = np.asarray(mesh.points, dtype=float)
+    blocks = [c.data for c in mesh.cells if c.type == "triangle"]
+    if points.ndim != 2 or points.shape[1] < 2 or len(blocks) != 1:
+        raise RunDirError(f"'{path}' does not hold one triangle mesh")
+    triangles = np.asarray(blocks[0])
+    n, m = len(points), len(triangles)
+    if (not np.isfinite(points).all() or triangles.ndim != 2 or triangles.shape[1] != 3
+            or triangles.dtype.kind not in "iu"
+            or (m and (triangles.min() < 0 or triangles.max() >= n))):
+        raise RunDirError(f"'{path}': its points or triangles are invalid")
+    point_data = {k: _planar(np.asarray(v)) for k, v in mesh.point_data.items()}
+    cell_data = {k: np.asarray(v[0]) for k, v in mesh.cell_data.items() if len(v) == 1}
+    for name, values in [*point_data.items(), *cell_data.items()]:
+        if len(values) != (n if name in point_data else m):
+            raise RunDirError(f"'{path}': the field {name!r} has {len(values)} values for "
+                              f"{n} points and {m} triangles")
+    return Fields(t=t, points=points[:, :2], triangles=triangles, point_data=point_data,
+                  cell_data=cell_data)
 
 
 def _planar(values: np.ndarray) -> np.ndarray:
