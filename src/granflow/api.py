@@ -314,35 +314,22 @@ def python_wording(message: str) -> str:
 def resume(path: str | Path, overrides: Mapping[str, Any] | Sequence[str] | None = None, *,
            allow_pickle: bool = False, progress: bool = False,
            log: Callable[[str], None] | None = None) -> Run:
-    """Continue the interrupted or failed run in ``path`` from its checkpoint, to its end.
+    """Continue the interrupted, killed or failed run in ``path`` from its checkpoint to its
+    end, or extend a finished one: ``overrides={"time.t_end": 2.0}``.
 
-    ``overrides`` change its configuration first (the step policy is then rebuilt from it);
-    ``allow_pickle`` reads a pickled checkpoint of granflow 0.1, which can execute code: only
-    for a file you wrote yourself. A finished run is refused.
+    ``overrides`` may change only the end time, later output times, ``output.*``, the stop
+    at rest and the step and solver controls (``granflow.resuming``); others are refused.
+    ``allow_pickle`` is no longer supported (granflow 0.1's pickled checkpoints are not
+    read): True raises ``CheckpointError``.
     """
-    from granflow.io.checkpoint import read_checkpoint
-    from granflow.runner import run_simulation
+    from granflow.io.checkpoint import CheckpointError, pickle_refusal
+    from granflow.resuming import resume_run
 
-    root = Path(path)
-    if not RunDir.is_run_dir(root):
-        raise RunDirError(f"'{root}' is not a granflow run directory (no config.toml)")
-    status = RunDir.status(root)
-    if status in OK_STATUSES:
-        raise RunDirError(f"the run in '{root}' has already finished (status = '{status}')")
-    texts = _override_texts(overrides)
-    config = load_config(str(root / "config.toml"), texts)
-    check_solver(config)
-    run_dir = RunDir(root)
-    with run_dir.lock():   # before reading: the run may still be writing it
-        state = read_checkpoint(root, allow_pickle=allow_pickle)
-        if texts:
-            state.loop["steps_policy"] = None    # rebuilt from the changed configuration
-            run_dir.write_text("config.toml", config_to_toml(config))
-        if log is not None:
-            log(f"granflow: resuming {root} at t = {state.t:.6g} s (step {state.step})")
-        run_simulation(config, run_dir, resume=state,
-                       progress=progress and config.output.progress)
-    return Run(root)
+    if allow_pickle:
+        raise CheckpointError("allow_pickle is no longer supported: "
+                              + pickle_refusal(Path(path)))
+    return Run(resume_run(path, _override_texts(overrides), progress=progress, log=log,
+                          check_solver=check_solver))
 
 
 def load(path: str | Path) -> Run:

@@ -64,6 +64,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ConfigError, RunDirError, CheckpointError, SweepError, ConvergeError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
         return 2
+    except OSError as err:   # a full disk, a folder that went away: one line too
+        where = f" ('{err.filename}')" if err.filename else ""
+        print(f"granflow: error: {err.strerror or err}{where}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("granflow: interrupted", file=sys.stderr)
         return 130
@@ -124,17 +128,19 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(command=_run)
 
     p = commands.add_parser(
-        "resume", help="continue an interrupted, killed or failed run from its checkpoint",
+        "resume", help="continue an interrupted, killed or failed run from its checkpoint, "
+                       "or extend a finished one (--set time.t_end=T)",
         description="Continue the run in RUN_DIR from checkpoint/state.npz, with the "
-                    "configuration in RUN_DIR/config.toml.")
+                    "configuration in RUN_DIR/config.toml, or extend a finished run to a "
+                    "later --set time.t_end=T. Only time.t_end, later time.output_times, "
+                    "output.*, the stop at rest and the step and solver controls may change.")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    type=_assignment,
-                   help="change a key before continuing, e.g. --set time.dt_max=5e-4 after a "
-                        "failure (the step policy then restarts from the new configuration)")
-    p.add_argument("--allow-pickle", action="store_true",
-                   help="also read a checkpoint of granflow 0.1 (checkpoint/state.pkl): a "
-                        "pickle can execute code, so only for run directories you wrote")
+                   help="change a key before continuing, e.g. --set time.t_end=2 to extend a "
+                        "finished run, --set time.dt_max=5e-4 after a failure (the step "
+                        "policy then restarts from the new configuration)")
+    p.add_argument("--allow-pickle", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(command=_resume)
 
@@ -252,8 +258,14 @@ def _run(args: argparse.Namespace) -> int:
 def _resume(args: argparse.Namespace) -> int:
     from granflow.api import resume
 
-    result = resume(args.run_dir, args.overrides, allow_pickle=args.allow_pickle,
-                    progress=not args.quiet, log=None if args.quiet else print)
+    if args.allow_pickle:
+        raise CheckpointError("--allow-pickle is no longer supported: granflow does not read "
+                              "the pickled checkpoints of granflow 0.1, which can execute "
+                              f"code; run the case again with `granflow run "
+                              f"{args.run_dir / 'config.toml'} --out NEW_DIR`")
+
+    result = resume(args.run_dir, args.overrides, progress=not args.quiet,
+                    log=None if args.quiet else print)
     return _report(RunDir.summary(result.root), RunDir(result.root))
 
 

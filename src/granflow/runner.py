@@ -78,10 +78,21 @@ def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = Fa
         profiles.write_profile(run_dir, kind, t, columns, rows, final=final)
 
 
+def restored_problem(config: Config, state: SimulationState) -> Problem:
+    """The problem of ``config`` in the checkpointed ``state`` (raises if the state does
+    not fit the problem: the caller reports it before the run directory is touched)."""
+    problem = build_problem(config)
+    problem.restore_state(state.scenario)
+    problem.simulation.restore_state(state.loop)
+    return problem
+
+
 def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
-                   resume: SimulationState | None = None) -> dict[str, Any]:
-    """Run ``config`` into ``run_dir`` (or continue ``resume``, a checkpointed state of it);
-    return the summary, also written as summary.json.
+                   resume: SimulationState | None = None,
+                   problem: Problem | None = None) -> dict[str, Any]:
+    """Run ``config`` into ``run_dir`` (or continue ``resume``, a checkpointed state of it,
+    restored into ``problem`` if the caller did so already: ``restored_problem``); return
+    the summary, also written as summary.json.
 
     The caller holds the folder's lock (``run_dir.lock()``) for the whole run: it is taken
     once, by whoever creates or reopens the folder (``granflow.run``, ``granflow resume``, a
@@ -100,10 +111,9 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
     run_dir.write_json("summary.json", _summary_head(
         config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
     try:
-        problem = build_problem(config)
-        if resume is not None:
-            problem.restore_state(resume.scenario)
-            problem.simulation.restore_state(resume.loop)
+        if problem is None:
+            problem = (build_problem(config) if resume is None
+                       else restored_problem(config, resume))
     except Exception as exc:  # a failure to build is a result, with the traceback kept
         return _failed(config, run_dir, exc, "building the problem")
     return _Run(config, run_dir, problem, progress, resume).execute()
@@ -209,8 +219,10 @@ class _Run:
         try:
             with _interrupts_to(sim):
                 result = sim.run()
+            # the last accepted state: `granflow resume` continues an interrupted or failed
+            # run from it, and extends a finished one to a later time.t_end
+            self.checkpoint(sim)
             if result.status in ("interrupted", "failed"):
-                self.checkpoint(sim)      # the last accepted state: `granflow resume` goes on
                 result.message += f"; continue with `granflow resume {run_dir.root}`"
         except Exception as exc:  # keep what was written; report instead of crashing
             crashed = exc

@@ -206,7 +206,7 @@ class SurfaceTension(_Section):
 
 class Output(_Section):
     vtk_every: Count  # 0 = only at output_times
-    checkpoint_every: Count  # 0 = only when interrupted or failed
+    checkpoint_every: Count  # 0 = only at the end and when interrupted or failed
     progress: bool
     figure_format: Literal["png", "pdf", "svg"]  # plots/*.png, .pdf or .svg
     dpi: Annotated[int, Field(ge=50, le=1200)]  # raster resolution (dots per inch)

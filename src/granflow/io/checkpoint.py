@@ -1,15 +1,18 @@
 """Checkpoint files: the run's ``SimulationState`` as data only, in ``checkpoint/state.npz``.
 
 A checkpoint may come from someone else's run directory, so reading one must not execute
-code. The state's nested dicts and lists go to JSON (stored inside the NumPy archive), its
-arrays to archive entries, read back with ``allow_pickle=False``; the few dataclasses of the
-state are rebuilt by name from a fixed list (``_DATACLASSES``), never from a name the file
-chooses; a mesh is stored as Netgen's own text format (``.vol``) plus its exact vertex
-coordinates. Written atomically (temporary file, fsync, rename), so a run killed while
-writing leaves the previous checkpoint intact.
+code nor crash the process. The state's nested dicts and lists go to JSON (stored inside the
+NumPy archive), its arrays to archive entries, read back by ``io/untrusted.py`` (each member
+checked before it is read, never pickle); the few dataclasses of the state are rebuilt by
+name from a fixed list (``_DATACLASSES``) with their own field names only; a mesh is stored
+as arrays (vertices, triangles, labelled boundary segments), checked, and rebuilt with
+``geometry/mesh.build_mesh``. Checkpoints of version 2 stored the mesh in Netgen's text
+format: it is parsed strictly (``io/netgen_text.py``), never given to Netgen's reader.
+Written atomically (temporary file, fsync, rename), so a run killed while writing leaves
+the previous checkpoint intact.
 
-Checkpoints of earlier granflow versions were pickles (``checkpoint/state.pkl``); they are
-read only when the caller says it trusts the file (``granflow resume --allow-pickle``).
+Checkpoints of granflow 0.1 were pickles (``checkpoint/state.pkl``): they are not read (a
+pickle can execute any code); such a run is run again.
 """
 
 from __future__ import annotations
@@ -18,18 +21,23 @@ import dataclasses
 import importlib
 import io
 import json
-import tempfile
+import math
 from pathlib import Path
 from typing import Any
 
 import ngsolve as ngs
 import numpy as np
 
+from granflow.geometry.mesh import LABELS, build_mesh
+from granflow.io.netgen_text import MeshArrays, parse_vol
 from granflow.io.run_dir import RunDir
 from granflow.io.run_state import STATE_VERSION, SimulationState
+from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
 
 CHECKPOINT_FILE = "checkpoint/state.npz"
 LEGACY_CHECKPOINT_FILE = "checkpoint/state.pkl"
+CHECKPOINT_LIMIT = 1024 * MB   # the largest mesh allowed (100,000 triangles) needs ~100 MB
+READABLE_VERSIONS = (2, STATE_VERSION)
 _STATE_ENTRY = "__state__"
 # the dataclasses a run state holds, by "module:name"; nothing else is ever constructed
 _DATACLASSES = frozenset({
@@ -56,37 +64,65 @@ def write_checkpoint(run_dir: RunDir, state: SimulationState) -> Path:
     return run_dir.write_bytes(CHECKPOINT_FILE, buffer.getvalue())
 
 
-def read_checkpoint(root: Path, allow_pickle: bool = False) -> SimulationState:
-    """The state saved in RUN_DIR's checkpoint. Data only; an old pickled checkpoint is
-    read only with ``allow_pickle`` (pickle can run any code the file's author chose)."""
+def read_checkpoint(root: Path) -> SimulationState:
+    """The state saved in RUN_DIR's checkpoint (data only); ``CheckpointError`` with one
+    line if there is none or it is not one granflow wrote."""
     path = Path(root) / CHECKPOINT_FILE
     legacy = Path(root) / LEGACY_CHECKPOINT_FILE
-    if not path.is_file() and legacy.is_file():
-        if not allow_pickle:
-            raise CheckpointError(
-                f"'{legacy}' is a checkpoint of an earlier granflow in pickle format, which "
-                "can execute code when read; if you wrote it yourself, resume with "
-                "--allow-pickle, else rerun the case")
-        return _read_pickle(legacy)
-    if not path.is_file():
+    if not path.exists() and legacy.exists():
+        raise CheckpointError(pickle_refusal(root))
+    if not path.exists() and not path.is_symlink():
         raise CheckpointError(f"'{root}' holds no checkpoint ({CHECKPOINT_FILE}); a run "
                               "checkpoints every output.checkpoint_every steps, when it is "
-                              "interrupted and when it fails")
+                              "interrupted, when it fails and when it ends")
     try:
-        with np.load(path, allow_pickle=False) as archive:
-            arrays = {name: archive[name] for name in archive.files}
-        tree = json.loads(arrays.pop(_STATE_ENTRY).tobytes().decode("utf-8"))
-        if not isinstance(tree, dict) or tree.get("version") != STATE_VERSION:
+        arrays = load_npz(read_bytes(path, CHECKPOINT_LIMIT), path, CHECKPOINT_LIMIT)
+        state = arrays.pop(_STATE_ENTRY, None)
+        if state is None or state.dtype != np.uint8 or state.ndim != 1:
+            raise ValueError(f"it has no {_STATE_ENTRY} entry")
+        tree = json.loads(state.tobytes().decode("utf-8"))
+        if not isinstance(tree, dict) or tree.get("version") not in READABLE_VERSIONS:
             raise CheckpointError(f"the checkpoint '{path}' was written by another version "
                                   "of granflow; rerun the case")
-        return SimulationState(loop=_decode(tree["loop"], arrays),
-                               scenario=_decode(tree["scenario"], arrays),
-                               outputs=_decode(tree["outputs"], arrays))
+        parts = [_decode(tree.get(part), arrays) for part in ("loop", "scenario", "outputs")]
+        if not all(isinstance(part, dict) for part in parts):
+            raise ValueError("its state is not made of the loop's, the scenario's and the "
+                             "outputs' parts")
+        return SimulationState(loop=_checked_loop(parts[0]), scenario=parts[1],
+                               outputs=parts[2])
     except CheckpointError:
         raise
-    except Exception as exc:  # a truncated, foreign or tampered file
+    except RunDirError as err:
+        raise CheckpointError(f"cannot read the checkpoint: {err}") from None
+    except Exception as exc:  # a truncated, foreign or tampered file; too deep a nesting
         raise CheckpointError(f"cannot read the checkpoint '{path}': "
-                              f"{type(exc).__name__}: {exc}") from None
+                              f"{type(exc).__name__}: {str(exc)[:300]}") from None
+
+
+def pickle_refusal(root: Path) -> str:
+    """Why a checkpoint of granflow 0.1 (a pickle) is not read, and what to do instead."""
+    return (f"'{Path(root) / LEGACY_CHECKPOINT_FILE}' is a checkpoint of granflow 0.1, a "
+            "pickle, which can execute code when read: granflow no longer reads it; run the "
+            f"case again with `granflow run {Path(root) / 'config.toml'} --out NEW_DIR`")
+
+
+def _checked_loop(loop: dict[str, Any]) -> dict[str, Any]:
+    """The loop's share with its time, step and counters checked (what the loop compares
+    and counts with before any other part of the state is used)."""
+    for key in ("t", "dt", "wall_time_s"):
+        value = loop.get(key)
+        if isinstance(value, bool) or not isinstance(value, int | float) or \
+                not math.isfinite(value) or value < 0:
+            raise ValueError(f"its time {key} = {str(value)[:40]} is not a number >= 0")
+    for key in ("step", "rejected_steps", "nonlinear_iterations", "momentum_solves",
+                "unconverged_steps"):
+        value = loop.get(key)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise ValueError(f"its counter {key} = {str(value)[:40]} is not a whole number")
+    if not isinstance(loop.get("rejections"), dict) or \
+            not isinstance(loop.get("stop_criteria"), list):
+        raise ValueError("its loop state lacks the rejections or the stop criteria")
+    return loop
 
 
 def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
@@ -109,10 +145,8 @@ def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
                        else np.asarray(value))
         return {"__bytes__" if isinstance(value, bytes) else "__array__": key}
     if isinstance(value, ngs.Mesh):
-        vol, coordinates = f"a{len(arrays)}", f"a{len(arrays) + 1}"
-        arrays[vol] = np.frombuffer(_vol_text(value), dtype=np.uint8)
-        arrays[coordinates] = value.ngmesh.Coordinates().copy()
-        return {"__mesh__": [vol, coordinates]}
+        return {"__mesh__": {name: _encode(part, arrays)
+                             for name, part in _mesh_arrays(value).items()}}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         name = f"{type(value).__module__}:{type(value).__qualname__}"
         if name not in _DATACLASSES:
@@ -134,58 +168,56 @@ def _decode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
     if "__tuple__" in value:
         return tuple(_decode(v, arrays) for v in value["__tuple__"])
     if "__mesh__" in value:
-        vol, coordinates = value["__mesh__"]
-        return _mesh(arrays[vol].tobytes(), arrays[coordinates])
+        return _mesh(value["__mesh__"], arrays)
     if "__dataclass__" in value:
-        name = value["__dataclass__"]
-        if name not in _DATACLASSES:
-            raise ValueError(f"unknown state class {name!r}")
-        module, qualname = name.split(":")
-        cls = getattr(importlib.import_module(module), qualname)
-        obj = cls.__new__(cls)
-        obj.__dict__.update(_decode(value["fields"], arrays))
-        return obj
+        return _dataclass(value["__dataclass__"], _decode(value["fields"], arrays))
     return {k: _decode(v, arrays) for k, v in value.items()}
 
 
-def _vol_text(mesh: ngs.Mesh) -> bytes:
-    """The mesh in Netgen's text format: vertices, triangles, boundary segments and the
-    boundary names that deposition changes."""
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "mesh.vol"
-        mesh.ngmesh.Save(str(path))
-        return path.read_bytes()
+def _dataclass(name: Any, fields: Any) -> Any:
+    """An instance of a listed state dataclass with exactly its own fields."""
+    if name not in _DATACLASSES:
+        raise ValueError(f"unknown state class {str(name)[:60]!r}")
+    module, qualname = name.split(":")
+    cls = getattr(importlib.import_module(module), qualname)
+    names = {f.name for f in dataclasses.fields(cls)}
+    if not isinstance(fields, dict) or set(fields) != names:
+        raise ValueError(f"the state of {qualname} does not have its fields {sorted(names)}")
+    obj = cls.__new__(cls)
+    obj.__dict__.update(fields)
+    return obj
 
 
-def _mesh(vol: bytes, coordinates: np.ndarray) -> ngs.Mesh:
-    """The mesh from ``_vol_text``, with its exact vertex coordinates."""
-    from netgen.meshing import Mesh as NetgenMesh
-
-    if b"\nmesh3d" not in vol[:4096]:
-        raise ValueError("the stored mesh is not in Netgen's .vol format")
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "mesh.vol"
-        path.write_bytes(vol)
-        ngmesh = NetgenMesh(dim=2)
-        ngmesh.Load(str(path))
-    if ngmesh.Coordinates().shape != coordinates.shape:
-        raise ValueError("the stored mesh and its coordinates disagree")
-    ngmesh.Coordinates()[:] = coordinates
-    return ngs.Mesh(ngmesh)
+def _mesh_arrays(mesh: ngs.Mesh) -> dict[str, np.ndarray]:
+    """Vertices, triangles and boundary segments (0-based) with their label numbers (in
+    ``LABELS``): what ``build_mesh`` rebuilds the same mesh from, element for element."""
+    ngmesh = mesh.ngmesh
+    segments = ngmesh.Elements1D().NumPy()
+    labels = [LABELS.index(ngmesh.GetBCName(int(i) - 1)) for i in segments["index"]]
+    return {"points": ngmesh.Coordinates().copy(),
+            "triangles": ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1,
+            "segments": segments["nodes"][:, :2].astype(np.int64) - 1,
+            "labels": np.array(labels, dtype=np.int64)}
 
 
-def _read_pickle(path: Path) -> SimulationState:
-    """An earlier granflow's pickled checkpoint (trusted by the caller)."""
-    import pickle
-
-    try:
-        state = pickle.loads(path.read_bytes())  # noqa: S301 - the user said they trust it
-    except Exception as exc:  # a truncated or foreign file
-        raise CheckpointError(f"cannot read the checkpoint '{path}': {exc}") from None
-    if not isinstance(state, SimulationState) or state.version != 1:
-        raise CheckpointError(f"the checkpoint '{path}' was written by another version of "
-                              "granflow; rerun the case")
-    if isinstance(state.scenario.get("mesh"), bytes):   # then pickled on its own
-        state.scenario["mesh"] = pickle.loads(state.scenario["mesh"])  # noqa: S301
-    state.version = STATE_VERSION
-    return state
+def _mesh(stored: Any, arrays: dict[str, np.ndarray]) -> ngs.Mesh:
+    """The mesh of ``_mesh_arrays`` (version 3) or of Netgen's text and the exact vertex
+    coordinates (version 2), checked before it is built."""
+    if isinstance(stored, list) and len(stored) == 2:          # version 2
+        text, coordinates = (arrays[key] for key in stored)
+        mesh = parse_vol(text.tobytes().decode("utf-8"))
+        if coordinates.shape != mesh.points.shape:
+            raise ValueError("the stored mesh and its coordinates disagree")
+        mesh = MeshArrays(coordinates.astype(float), mesh.triangles, mesh.segments,
+                          mesh.labels)
+    else:
+        parts = {name: _decode(stored[name], arrays)
+                 for name in ("points", "triangles", "segments", "labels")}
+        codes = np.asarray(parts["labels"])
+        if codes.dtype.kind not in "iu" or codes.ndim != 1 or (
+                codes.size and (codes.min() < 0 or codes.max() >= len(LABELS))):
+            raise ValueError("the stored mesh's boundary labels are not label numbers")
+        mesh = MeshArrays(np.asarray(parts["points"], dtype=float), parts["triangles"],
+                          parts["segments"], [LABELS[i] for i in codes])
+    mesh.check()
+    return build_mesh(mesh.points, mesh.triangles, mesh.segments, mesh.labels)

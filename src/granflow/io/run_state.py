@@ -13,8 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-STATE_VERSION = 2   # bump when the layout changes; older checkpoints are then refused
-                    # (1: the pickled checkpoints of granflow 0.1)
+STATE_VERSION = 3   # bump when the layout changes; older checkpoints are then refused
+                    # (1: the pickled checkpoints of granflow 0.1, never read; 2: the mesh
+                    # in Netgen's text format, still read; 3: the mesh as arrays)
 
 
 @dataclass
