@@ -349,7 +349,13 @@ def _converge(args: argparse.Namespace) -> int:
 def _plot(args: argparse.Namespace) -> int:
     from granflow.io.replot import plot_run
 
-    written = plot_run(args.run_dir, args.figure_format, args.dpi)
+    try:
+        written = plot_run(args.run_dir, args.figure_format, args.dpi)
+    except (ConfigError, RunDirError):
+        raise
+    except Exception as exc:   # files someone else wrote that no figure can show: one line
+        raise RunDirError(f"cannot draw the figures of '{args.run_dir}': "
+                          f"{type(exc).__name__}: {str(exc)[:200]}") from None
     print(f"granflow: {len(written)} figures in {args.run_dir / 'plots'}: "
           f"{', '.join(p.name for p in written)}")
     return 0

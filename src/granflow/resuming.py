@@ -52,6 +52,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
     check_solver(config)
     run_dir = RunDir(root)
     with run_dir.lock():   # before reading: the run may still be writing it
+        run_dir.check_layout()
         status = RunDir.status(root)
         state = _checkpoint(root, status, saved)
         _check_times(root, status, saved, config, state)

@@ -50,6 +50,7 @@ RUN_FOLDERS = {
 # temporary files: this module's (``_atomic``) and the fixed names of earlier versions
 TEMPORARY = re.compile(r"\..+\.tmp(\.[A-Za-z0-9]+)?|\.granflow\.lock\.probe")
 SUMMARY_LIMIT = 16 * MB
+CHECKPOINT = "checkpoint/state.npz"
 
 
 def atomic_write_bytes(target: Path, data: bytes) -> None:
@@ -170,6 +171,25 @@ class RunDir:
             with contextlib.suppress(OSError):
                 path.rmdir()            # only if nothing else is left in it
 
+    def check_layout(self) -> None:
+        """Before a run writes into an existing folder: each file of the layout is a file
+        (or absent) and each folder a folder of its own, so that writing cannot fail half
+        way (a folder where a file goes) or leave the directory (a linked folder)."""
+        for name in (*RUN_FILES, "fields/fields.pvd", "profiles/units.json", CHECKPOINT):
+            if _is_folder(self.root / name):
+                raise RunDirError(f"'{self.root / name}' is a folder where the run writes a "
+                                  "file; remove it or choose another run directory")
+        for folder, names in RUN_FOLDERS.items():
+            path = self.root / folder
+            if path.is_symlink() or (os.path.lexists(path) and not _is_folder(path)):
+                raise RunDirError(f"'{path}' is not a folder of the run directory (a link "
+                                  "or a file); remove it or choose another run directory")
+            clash = next((e for e in path.iterdir() if names.fullmatch(e.name)
+                          and _is_folder(e)), None) if path.is_dir() else None
+            if clash is not None:
+                raise RunDirError(f"'{clash}' is a folder where the run writes a file; remove "
+                                  "it or choose another run directory")
+
     def remove_temporary_files(self) -> None:
         """The temporary files a killed run left behind (never renamed into place)."""
         for folder in (self.root, *(self.root / f for f in RUN_FOLDERS)):
@@ -228,18 +248,21 @@ class RunDir:
         return RunDir.summary(path).get("status")
 
     def path(self, relpath: str | Path) -> Path:
-        """Absolute path of ``relpath`` inside the run directory; its parent folders exist
-        (a link that leads out of the folder is refused)."""
-        target = (self.root / relpath).resolve()
-        if not target.is_relative_to(self.root.resolve()):
-            raise RunDirError(f"'{self.root / relpath}' leads outside the run directory "
-                              f"'{self.root}' (a symbolic link?); refused")
+        """Absolute path of ``relpath`` inside the run directory; its parent folders exist.
+        A folder on the way that leads out of the run directory (a link) is refused; the
+        file itself may be a link: writers replace it (``os.replace``), never follow it."""
+        path = self.root / relpath
         try:
-            target.parent.mkdir(parents=True, exist_ok=True)
+            parent, inside = path.parent.resolve(), self.root.resolve()
+            leads_out = path.is_dir() and not path.resolve().is_relative_to(inside)
+            if not parent.is_relative_to(inside) or path.name in ("", "..", ".") or leads_out:
+                raise RunDirError(f"'{path}' leads outside the run directory '{self.root}' "
+                                  "(a symbolic link?); refused")
+            parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
-            raise RunDirError(f"cannot create the folder '{target.parent}' of the run: "
+            raise RunDirError(f"cannot create the folder '{path.parent}' of the run: "
                               f"{err.strerror or err}") from None
-        return target
+        return parent / path.name
 
     @contextlib.contextmanager
     def atomic_path(self, relpath: str | Path) -> Iterator[Path]:

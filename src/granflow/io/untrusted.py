@@ -42,10 +42,11 @@ def read_bytes(path: Path, limit: int = TEXT_LIMIT) -> bytes:
             raise RunDirError(f"'{path}' is a symbolic link; the files of a run directory "
                               "are regular files") from None
         raise RunDirError(f"cannot read '{path}': {err.strerror or err}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        raise RunDirError(f"'{path}' is not a regular file (it is {_kind(mode)})")
     with os.fdopen(fd, "rb") as f:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            raise RunDirError(f"'{path}' is not a regular file (it is {_kind(mode)})")
         try:
             data = f.read(limit + 1)
         except OSError as err:

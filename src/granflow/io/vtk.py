@@ -9,8 +9,6 @@ on a file it cannot read) becomes one ``RunDirError``.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import math
 import os
 import re
@@ -21,6 +19,7 @@ from xml.sax.saxutils import quoteattr
 
 import meshio
 import numpy as np
+from meshio import vtu
 
 from granflow.io.run_dir import RunDirError, atomic_file, atomic_write_text
 from granflow.io.untrusted import MB, parse_xml, read_bytes
@@ -136,11 +135,11 @@ def read_snapshot(root: Path, t: float) -> Fields:
         with tempfile.TemporaryDirectory() as folder:
             copy = Path(folder, "snapshot.vtu")
             copy.write_bytes(data)
-            with contextlib.redirect_stdout(io.StringIO()):   # meshio prints its errors
-                mesh = meshio.read(copy, file_format="vtu")
+            mesh = vtu.read(str(copy))    # the reader itself: meshio.read prints and exits
     except (Exception, SystemExit) as err:   # meshio exits on a file it cannot read
+        detail = str(err)[:200] or "not a VTU file meshio can read"
         raise RunDirError(f"cannot read the snapshot '{path}': {type(err).__name__}: "
-                          f"{str(err)[:200]}") from None
+                          f"{detail}") from None
     return _fields(mesh, nearest, path)
 
 
