@@ -268,6 +268,7 @@ def run_case(case: str | Path | Config,
     """``run`` as the command line calls it: its messages name the command's options."""
     config, label = _resolve(case, overrides)
     check_solver(config)
+    note_cost(config)
     from granflow.runner import run_simulation
 
     progress = watched() if progress is None else progress
@@ -345,6 +346,18 @@ def check_solver(config: Config) -> None:
         if not pardiso_available():
             raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
                               "mkl, x86-64 only); use 'auto' or 'umfpack'")
+
+
+def note_cost(config: Config) -> None:
+    """A ``ConfigNote`` before a run of more than an hour (``config/cost.py``)."""
+    import warnings
+
+    from granflow.config import ConfigNote
+    from granflow.config.cost import cost_note
+
+    note = cost_note(config)
+    if note is not None:
+        warnings.warn(note, ConfigNote, stacklevel=3)
 
 
 def solver_label(config: Config) -> str:

@@ -288,12 +288,13 @@ def _positive_int(text: str) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from granflow.sweep import Cluster, load_sweep, run_sweep
+    from granflow.io.run_dir import prepare_folder
+    from granflow.sweep import Cluster, check_scheduler, load_sweep, run_sweep
 
     sweep = load_sweep(args.sweep)        # validated before any worker starts
     out = args.out if args.out is not None else RUNS_FOLDER / f"sweep-{sweep.name}"
-    if str(out).strip() == "":
-        raise RunDirError("--out must name a folder for the sweep (got an empty path)")
+    check_scheduler(args.scheduler)
+    prepare_folder(out, "the sweep")
     with Cluster(args.scheduler, args.workers) as cluster:
         where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
         print(f"granflow: sweep {sweep.name}: {len(sweep.runs())} runs on {where}; "
@@ -328,14 +329,16 @@ def _tolerances(text: str) -> dict[str, float]:
 
 def _converge(args: argparse.Namespace) -> int:
     from granflow.converge import Study, format_table, run_study
-    from granflow.sweep import Cluster
+    from granflow.io.run_dir import check_folder, prepare_folder
+    from granflow.sweep import Cluster, check_scheduler
 
     study = Study(args.scenario, args.mode, args.levels, tuple(args.overrides), args.tolerances)
     out = args.out if args.out is not None else RUNS_FOLDER / f"converge-{study.label}-{args.mode}"
-    if str(out).strip() == "":
-        raise RunDirError("--out must name a folder for the study (got an empty path)")
+    check_scheduler(args.scheduler)
+    check_folder(out, "the study")
     study.runs(out)                         # every level validated before any worker starts
     check_solver(load_config(args.scenario, args.overrides))
+    prepare_folder(out, "the study")
     with Cluster(args.scheduler, args.workers) as cluster:
         where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
         print(f"granflow: converge {study.label} in {args.mode}: {args.levels} levels on "

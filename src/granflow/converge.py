@@ -39,6 +39,7 @@ from granflow.convergence_report import (
     orders,
     write_report,
 )
+from granflow.io.run_dir import prepare_folder
 from granflow.sweep import SweepRun, run_all
 
 __all__ = ["DEFAULT_TOLERANCES", "MAX_LEVELS", "MIN_LEVELS", "MODES", "OPTIONAL_TOLERANCES",
@@ -186,6 +187,7 @@ def run_study(study: Study, out: Path, client: Any, progress: bool = True,
     """Run the levels not yet finished in ``out`` on the Dask ``client`` (as sweep runs),
     then compare them and write converge.csv, converge.json and converge.png."""
     runs = study.runs(out)
+    prepare_folder(out, "the study")
     # finest (longest) level first: the coarse ones fill the other workers meanwhile
     run_all(runs[::-1], out, client, key=f"granflow-converge-{study.label}-{study.mode}",
             report=report, progress=progress, desc="converge")

@@ -34,9 +34,11 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import ConfigError, load_config, read_toml_file
-from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text
+from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text, prepare_folder
 
 FINISHED = ("completed", "stopped")
+MAX_RUNS = 10_000   # runs of one sweep: at a minute each, a week of one core
+_SCHEDULER = re.compile(r"(?:tcp://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):(?P<port>\d{1,5})")
 FIGURES = ["t_final", "steps", "wall_time_s", "stop_time_s", "runout_m", "wall_height_m",
            "initial_area_m2", "volume_relative_error", "n_triangles", "remeshes",
            "initial_volume_m3", "axis_height_m"]   # the last two: axisymmetric runs only
@@ -108,6 +110,12 @@ def load_sweep(source: str) -> Sweep:
     for key, values in vary.items():
         if not isinstance(values, list) or not values:
             raise SweepError(f"sweep file '{source}': vary '{key}' must be a non-empty list")
+    count = 1
+    for values in vary.values():
+        count *= len(values)
+    if count > MAX_RUNS:
+        raise SweepError(f"sweep file '{source}': its [vary] lists make {count:.3g} runs (at "
+                         f"most {MAX_RUNS} allowed); vary fewer values or split the sweep")
     sweep = Sweep(name, base, [f"{k}={_literal(v)}" for k, v in fixed.items()],
                   {k: list(v) for k, v in vary.items()}, data.get("study", {}))
     try:   # the keys must exist and the base must load; single combinations may still fail
@@ -205,7 +213,7 @@ def run_sweep(sweep: Sweep, out: Path, client: Any,
               report: Callable[[str], None] = print, progress: bool = True) -> SweepResult:
     """Submit every unfinished run to the Dask ``client``; gather sweep.csv in ``out``."""
     start = time.perf_counter()
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_folder(out, "the sweep")
     atomic_write_text(out / "sweep.toml", _describe(sweep))
     csv_path = out / "sweep.csv"
     rows, skipped = run_all(sweep.runs(), out, client, key=f"granflow-{sweep.name}",
@@ -289,6 +297,7 @@ class Cluster:
     def __enter__(self) -> Cluster:
         from distributed import Client, LocalCluster
 
+        check_scheduler(self.scheduler)
         if self.scheduler:
             try:
                 self.client = Client(self.scheduler, timeout="20s")
@@ -310,3 +319,15 @@ class Cluster:
             self.client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+
+def check_scheduler(address: str | None) -> None:
+    """``--scheduler`` is tcp://HOST:PORT (or HOST:PORT) with a port in 1..65535: the
+    protocol granflow connects with (ucx://, tls:// and the others need a Dask
+    configuration of their own, which granflow does not set up)."""
+    if address is None:
+        return
+    match = _SCHEDULER.fullmatch(address.strip())
+    if match is None or not 1 <= int(match["port"]) <= 65535:
+        raise SweepError(f"--scheduler {address[:80]!r} is not tcp://HOST:PORT with a port "
+                         "in 1..65535 (granflow connects to a Dask scheduler over plain TCP)")

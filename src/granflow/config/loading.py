@@ -214,7 +214,7 @@ def read_toml_file(path: Path, what: str) -> dict[str, Any]:
             raise ConfigError(f"{what} '{path}' is larger than {MAX_TOML_BYTES // 2**20} MB; "
                               "a configuration is a few kB")
         return tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
+    except (OSError, ValueError) as err:   # also an integer of more than 4300 digits
         raise ConfigError(f"cannot read {what} '{path}': {err}") from None
     except RecursionError:
         raise ConfigError(f"cannot read {what} '{path}': its arrays or tables are nested "
@@ -302,7 +302,7 @@ def parse_value(raw: str) -> Any:
     raw = raw.strip()
     try:
         parsed = tomllib.loads(f"v = {raw}")
-    except tomllib.TOMLDecodeError:
+    except ValueError:   # not TOML, or an integer of more than 4300 digits
         try:
             return float(raw)
         except ValueError:

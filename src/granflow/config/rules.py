@@ -11,6 +11,7 @@ import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from granflow.config.cost import cost_problems
 from granflow.config.messages import fmt_value
 from granflow.config.schema import Layer
 
@@ -71,8 +72,7 @@ def problems(c: Config) -> Iterator[str]:
                    "geometry.kind = 'column' (its free surface must move); "
                    "use 'elastic' (3.6) or 'lagrange' (3.7)")
         yield from _axisymmetric_problems(c)
-        run = g.height / math.tan(math.radians(g.front_angle_deg))  # horizontal extent of front
-        if g.shape == "trapezoid" and run >= g.width:
+        if g.shape == "trapezoid" and _front_run(g.height, g.front_angle_deg) >= g.width:
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
     st = c.surface_tension
@@ -96,6 +96,7 @@ def problems(c: Config) -> Iterator[str]:
                f"{0.3 + GB_PER_TRIANGLE * (bulk + layer):.2g} GB of memory (at most "
                f"{MAX_TRIANGLES} triangles allowed); use mesh.size >= {smallest:.2g}")
     yield from _layer_problems(c)
+    yield from cost_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
@@ -128,8 +129,15 @@ def estimated_triangles(c: Config) -> tuple[float, float]:
 def _bulk_area(c: Config) -> float:
     """Area of the column (m^2): the rectangle, less the front's triangle of a trapezoid."""
     g = c.geometry
-    run = g.height / math.tan(math.radians(g.front_angle_deg)) if g.shape == "trapezoid" else 0
+    run = _front_run(g.height, g.front_angle_deg) if g.shape == "trapezoid" else 0
     return g.width * g.height - 0.5 * g.height * min(run, g.width)
+
+
+def _front_run(height: float, angle_deg: float) -> float:
+    """Horizontal extent of a trapezoid's front (inf for an angle whose tangent is 0 in
+    floating point, such as 5e-324 degrees)."""
+    slope = math.tan(math.radians(angle_deg))
+    return height / slope if slope > 0 else math.inf
 
 
 def _layer_problems(c: Config) -> Iterator[str]:

@@ -31,7 +31,7 @@ from filelock import FileLock, Timeout
 from granflow.io.untrusted import MB, RunDirError, is_regular, read_bytes, read_text
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
-           "atomic_write_text"]
+           "atomic_write_text", "check_folder", "prepare_folder"]
 
 # A folder is a granflow run directory if its config.toml starts with this line prefix.
 RUN_MARKER_FILE = "config.toml"
@@ -50,6 +50,7 @@ RUN_FOLDERS = {
 # temporary files: this module's (``_atomic``) and the fixed names of earlier versions
 TEMPORARY = re.compile(r"\..+\.tmp(\.[A-Za-z0-9]+)?|\.granflow\.lock\.probe")
 SUMMARY_LIMIT = 16 * MB
+NAME_MAX = 255    # bytes in one name of a path (Linux, macOS, Windows)
 CHECKPOINT = "checkpoint/state.npz"
 
 
@@ -94,6 +95,48 @@ def _atomic(target: Path, data: bytes | None = None) -> Iterator[Path]:
         os.replace(tmp, target)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def check_folder(path: Path, what: str = "the output", option: str = "--out") -> None:
+    """What can be said of ``path`` as an output folder without creating anything: a name
+    (not empty, not the current folder) of parts of at most 255 bytes, that is not a file
+    or a device and is not under one; ``RunDirError`` otherwise."""
+    path = Path(path)
+    if str(path).strip() in ("", "."):
+        raise RunDirError(f"{option} must name a folder for {what} (got an empty path or the "
+                          "current folder)")
+    if any(len(os.fsencode(part)) > NAME_MAX for part in path.parts):
+        raise RunDirError(f"{option}: a name in '{str(path)[:80]}...' is longer than "
+                          f"{NAME_MAX} bytes")
+    for folder in [path, *path.parents]:
+        if os.path.lexists(folder) and not folder.is_dir():
+            raise RunDirError(f"{option} '{path}' exists and is not a folder" if folder == path
+                              else f"{option} '{path}' is under '{folder}', which is not a "
+                              "folder")
+
+
+def prepare_folder(path: Path, what: str = "the output", option: str = "--out") -> None:
+    """Make sure, before any work, that ``path`` is (or has been made) a folder this process
+    can write into (``check_folder``, then created and a file written and removed in it).
+    A refusal is one ``RunDirError`` and leaves nothing behind (the folders it made are
+    removed)."""
+    path = Path(path)
+    check_folder(path, what, option)
+    made = []
+    try:
+        for folder in reversed([path, *path.parents]):
+            if not os.path.lexists(folder):
+                folder.mkdir()
+                made.append(folder)
+        fd, probe = tempfile.mkstemp(dir=path, prefix=".granflow-probe.")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as err:
+        for folder in reversed(made):
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise RunDirError(f"cannot write into {option} '{path}': "
+                          f"{err.strerror or err}") from None
 
 
 def _json_safe(obj: Any) -> Any:
