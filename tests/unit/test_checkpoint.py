@@ -9,6 +9,7 @@ import json
 import pickle
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -106,32 +107,18 @@ def _run_dir_for_resume(root: Path) -> None:
     (root / "checkpoint").mkdir(exist_ok=True)
 
 
-def test_an_old_pickled_checkpoint_is_refused_without_the_flag(tmp_path: Path) -> None:
+@pytest.mark.parametrize("flag", [[], ["--allow-pickle"]])
+def test_an_old_pickled_checkpoint_is_never_read(tmp_path: Path, flag: list[str]) -> None:
     root, marker = tmp_path / "received", tmp_path / "marker.txt"
     _run_dir_for_resume(root)
     (root / LEGACY_CHECKPOINT_FILE).write_bytes(pickle.dumps(_Payload(marker)))
-    with pytest.raises(CheckpointError, match="--allow-pickle"):
+    with pytest.raises(CheckpointError, match="no longer reads it"):
         read_checkpoint(root)
-    done = subprocess.run([sys.executable, "-m", "granflow", "resume", str(root), "--quiet"],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode != 0 and "--allow-pickle" in done.stderr
+    done = subprocess.run([sys.executable, "-m", "granflow", "resume", str(root), "--quiet",
+                           *flag], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2 and "granflow run" in done.stderr
     assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert not marker.exists()
-    # with the flag the user takes the responsibility, and a foreign pickle is refused
-    with pytest.raises(CheckpointError):
-        read_checkpoint(root, allow_pickle=True)
-    assert marker.exists()   # ... after running, which is why the flag exists
-
-
-def test_an_old_pickled_checkpoint_is_read_with_the_flag(state: SimulationState,
-                                                         tmp_path: Path) -> None:
-    scenario = dict(state.scenario, mesh=pickle.dumps(state.scenario["mesh"]))
-    legacy = SimulationState(loop=state.loop, scenario=scenario, outputs=state.outputs,
-                             version=1)
-    (tmp_path / "checkpoint").mkdir()
-    (tmp_path / LEGACY_CHECKPOINT_FILE).write_bytes(pickle.dumps(legacy))
-    back = read_checkpoint(tmp_path, allow_pickle=True)
-    assert_same(state.scenario, back.scenario, "scenario")
 
 
 def _tampered(tmp_path: Path, edit: Any) -> Path:
@@ -155,10 +142,104 @@ def _tampered(tmp_path: Path, edit: Any) -> Path:
     lambda tree, arrays: arrays.update(a0=np.array([object()], dtype=object)),
     lambda tree, arrays: tree.update(version=1),
     lambda tree, arrays: tree["scenario"].update(mesh={"__mesh__": ["a1", "a0"]}),
-], ids=["foreign-class", "object-array", "old-version", "broken-mesh"])
+    lambda tree, arrays: tree["loop"].update(t="0.1"),
+    lambda tree, arrays: tree["loop"].update(step=-3),
+    lambda tree, arrays: tree["loop"]["steps_policy"]["fields"].update(extra=1),
+    lambda tree, arrays: tree.update(loop=[1, 2]),
+    lambda tree, arrays: tree.update(scenario={"a": [[[[]]]] * 1000}, loop="x" * 10),
+], ids=["foreign-class", "object-array", "old-version", "broken-mesh", "time-text",
+        "negative-step", "unknown-field", "loop-list", "wrong-types"])
 def test_a_tampered_checkpoint_is_a_clear_error(state: SimulationState, tmp_path: Path,
                                                 edit: Any) -> None:
     write_checkpoint(RunDir.create(tmp_path / "run"), state)
     root = _tampered(tmp_path, edit)
     with pytest.raises(CheckpointError, match="checkpoint"):
         read_checkpoint(root)
+
+
+def _mesh_entry(tree: dict[str, Any]) -> dict[str, Any]:
+    return tree["scenario"]["mesh"]["__mesh__"]
+
+
+@pytest.mark.parametrize("name, values", [
+    ("triangles", lambda a: np.where(a == a.max(), 10**6, a)),     # out of range
+    ("triangles", lambda a: a - a.min() - 1),                      # negative (0 -> -1)
+    ("triangles", lambda a: np.column_stack([a[:, 0], a[:, 0], a[:, 2]])),  # repeated
+    ("triangles", lambda a: a[:, :2]),                             # not triangles
+    ("segments", lambda a: a + 10**9),
+    ("labels", lambda a: a + 7),
+    ("points", lambda a: np.full_like(a, np.nan)),
+    ("points", lambda a: a.astype(np.complex128)),
+], ids=["index-out-of-range", "index-negative", "vertex-repeated", "two-columns",
+        "segment-out-of-range", "unknown-label", "nan-points", "complex-points"])
+def test_a_checkpoint_mesh_is_checked_before_it_is_built(state: SimulationState, tmp_path: Path,
+                                                         name: str, values: Any) -> None:
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+
+    def edit(tree: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        key = _mesh_entry(tree)[name]["__array__"]
+        arrays[key] = values(arrays[key])
+
+    with pytest.raises(CheckpointError, match="mesh"):
+        read_checkpoint(_tampered(tmp_path, edit))
+
+
+def _vol_text(mesh: ngs.Mesh) -> str:
+    """The mesh in Netgen's text format, as checkpoints of version 2 stored it."""
+    with tempfile.TemporaryDirectory() as folder:
+        mesh.ngmesh.Save(str(Path(folder) / "mesh.vol"))
+        return (Path(folder) / "mesh.vol").read_text()
+
+
+def _as_version_2(text: str) -> Any:
+    """An edit that stores the mesh as version 2 did: Netgen's text and the coordinates."""
+    def edit(tree: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        points = arrays[_mesh_entry(tree)["points"]["__array__"]]
+        arrays["vol"] = np.frombuffer(text.encode(), dtype=np.uint8)
+        arrays["xy"] = points
+        tree["version"] = 2
+        tree["scenario"]["mesh"] = {"__mesh__": ["vol", "xy"]}
+    return edit
+
+
+def test_a_version_2_checkpoint_is_still_read_exactly(state: SimulationState,
+                                                      tmp_path: Path) -> None:
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+    back = read_checkpoint(_tampered(tmp_path, _as_version_2(_vol_text(state.scenario["mesh"]))))
+    assert_same(state.scenario, back.scenario, "scenario")
+
+
+def _edit_section(text: str, section: str, edit: Any) -> str:
+    """``text`` with the rows of a .vol section (after its count) passed through ``edit``."""
+    lines = text.splitlines()
+    at = lines.index(section)
+    count = int(lines[at + 1])
+    rows = edit(lines[at + 2:at + 2 + count])
+    return "\n".join([*lines[:at + 1], str(len(rows)), *rows, *lines[at + 2 + count:]])
+
+
+def _first_index(row: str, value: str) -> str:
+    parts = row.split()
+    parts[5] = value            # p1 of a surface element
+    return " ".join(parts)
+
+
+@pytest.mark.parametrize("edit", [
+    lambda t: _edit_section(t, "surfaceelements", lambda r: [_first_index(r[0], "99999"),
+                                                              *r[1:]]),
+    lambda t: _edit_section(t, "surfaceelements", lambda r: [_first_index(r[0], "-4"), *r[1:]]),
+    lambda t: _edit_section(t, "surfaceelements", lambda r: [_first_index(r[0], "0"), *r[1:]]),
+    lambda t: t.replace("\nsurfaceelements\n", "\nsurfaceelements\n-5\n", 1),
+    lambda t: t[:len(t) // 2],
+    lambda t: _edit_section(t, "points", lambda r: r[:-3]),
+    lambda t: t.replace("mesh3d", "mesh2d", 1),
+], ids=["index-out-of-range", "index-negative", "index-zero", "negative-count", "cut-short",
+        "fewer-points", "not-netgen"])
+def test_a_bad_netgen_text_is_one_error_never_a_crash(state: SimulationState, tmp_path: Path,
+                                                      edit: Any) -> None:
+    """Netgen's own reader crashed the process on these (a signal, a double free)."""
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+    text = edit(_vol_text(state.scenario["mesh"]))
+    with pytest.raises(CheckpointError, match="mesh|checkpoint") as err:
+        read_checkpoint(_tampered(tmp_path, _as_version_2(text)))
+    assert "\n" not in str(err.value)

@@ -11,9 +11,10 @@ step with PARDISO. A column that stops at rest (``time.stop_at_rest``) usually e
 before time.t_end, so its estimate is only announced, never refused.
 
 A tolerance below ``TOL_FLOOR`` is refused: the fixed-point iteration (3.2) does not reach
-it in double precision (``benchmarks/tolerance_floor.py``: on a 50-triangle column 7.5
-iterations a step at 3e-5, 220 at 1e-12, and at 1e-14 most steps end unconverged at
-numerics.max_iterations).
+it in double precision (``benchmarks/tolerance_floor.py``, the first 0.01 s of a
+52-triangle column: 16 steps at every tolerance from 3e-5 to 1e-12, with 14 iterations a
+step at 3e-5 and 318 at 1e-12; at 1e-14, 560 attempts fail to converge and are retried
+smaller, and the run takes 562 steps and 37 times the wall time of 1e-12).
 """
 
 from __future__ import annotations
@@ -51,8 +52,8 @@ def cost_problems(c: Config) -> Iterator[str]:
     t = c.time
     if c.numerics.tol < TOL_FLOOR:
         yield (f"numerics.tol = {c.numerics.tol!r} is below what the iteration (3.2) reaches "
-               f"in double precision: its steps would end unconverged at "
-               f"numerics.max_iterations; use numerics.tol >= {TOL_FLOOR:g}")
+               "in double precision: its steps would fail to converge and shrink without "
+               f"end; use numerics.tol >= {TOL_FLOOR:g}")
     triangles, steps, seconds, key = estimate(c)
     if len(t.output_times) > min(MAX_OUTPUT_TIMES, steps):
         yield (f"time.output_times has {len(t.output_times)} times, more than "

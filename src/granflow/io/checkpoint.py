@@ -208,8 +208,7 @@ def _mesh(stored: Any, arrays: dict[str, np.ndarray]) -> ngs.Mesh:
         mesh = parse_vol(text.tobytes().decode("utf-8"))
         if coordinates.shape != mesh.points.shape:
             raise ValueError("the stored mesh and its coordinates disagree")
-        mesh = MeshArrays(coordinates.astype(float), mesh.triangles, mesh.segments,
-                          mesh.labels)
+        mesh = MeshArrays(coordinates, mesh.triangles, mesh.segments, mesh.labels)
     else:
         parts = {name: _decode(stored[name], arrays)
                  for name in ("points", "triangles", "segments", "labels")}
@@ -217,7 +216,7 @@ def _mesh(stored: Any, arrays: dict[str, np.ndarray]) -> ngs.Mesh:
         if codes.dtype.kind not in "iu" or codes.ndim != 1 or (
                 codes.size and (codes.min() < 0 or codes.max() >= len(LABELS))):
             raise ValueError("the stored mesh's boundary labels are not label numbers")
-        mesh = MeshArrays(np.asarray(parts["points"], dtype=float), parts["triangles"],
-                          parts["segments"], [LABELS[i] for i in codes])
+        mesh = MeshArrays(np.asarray(parts["points"]), np.asarray(parts["triangles"]),
+                          np.asarray(parts["segments"]), [LABELS[i] for i in codes])
     mesh.check()
     return build_mesh(mesh.points, mesh.triangles, mesh.segments, mesh.labels)

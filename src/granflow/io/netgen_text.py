@@ -32,8 +32,10 @@ class MeshArrays:
     def check(self) -> None:
         """Raise ValueError unless the arrays make a mesh ``build_mesh`` can take."""
         n = len(self.points)
-        if self.points.ndim != 2 or self.points.shape[1] != 2 or n < 3 or n > MAX_ITEMS:
-            raise ValueError(f"the mesh's vertices have shape {self.points.shape}")
+        if self.points.dtype != np.float64 or self.points.ndim != 2 or \
+                self.points.shape[1] != 2 or n < 3 or n > MAX_ITEMS:
+            raise ValueError(f"the mesh's vertices are not (n, 2) floats: {self.points.dtype}, "
+                             f"shape {self.points.shape}")
         if not np.isfinite(self.points).all():
             raise ValueError("the mesh has a vertex that is not finite")
         for name, cells, width in (("triangle", self.triangles, 3),

@@ -100,8 +100,8 @@ def load_npz(data: bytes, path: Path, member_limit: int) -> dict[str, np.ndarray
                 raise RunDirError(f"'{path}' holds {len(members)} arrays; a granflow file "
                                   f"holds at most {ARCHIVE_MEMBERS}")
             for info in members:
-                arrays[_member_name(info, path, member_limit)] = _read_member(
-                    archive, info, path)
+                name = _member_name(info, path, member_limit)    # checked before it is read
+                arrays[name] = _read_member(archive, info, path)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError,
             NotImplementedError, RuntimeError, MemoryError) as err:
         raise RunDirError(f"'{path}' is not a readable NumPy archive: {err}") from None

@@ -1,0 +1,267 @@
+"""A run directory from someone else is data: one hostile directory per class, each read by
+`granflow plot`, `granflow resume` and `granflow.load`, gives one line (a typed error from
+the API), never a hang, a crash or a write outside the directory.
+
+The classes: a link planted at a temporary or a final file name, or in a folder's place;
+a FIFO, a folder or a /dev/zero link where a file belongs; a CSV that is not UTF-8; XML
+with entities; a VTU or a checkpoint that inflates without bound or is cut short; a
+damaged VTU (meshio would exit); a checkpoint whose mesh indexes vertices that do not exist
+(Netgen's reader crashed on it). All from one coarse run (about 2 s).
+"""
+
+from __future__ import annotations
+
+import base64
+import contextlib
+import io
+import json
+import os
+import re
+import shutil
+import zipfile
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import granflow
+import granflow.runner as runner
+from granflow.cli import main
+from granflow.config import ConfigError
+from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, write_checkpoint
+from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.run_state import SimulationState
+
+COARSE = {"geometry.width": 0.1, "geometry.height": 0.1, "mesh.size": 0.025,
+          "time.t_end": 0.03, "time.output_times": [0.01, 0.02], "output.checkpoint_every": 10}
+OUTSIDE = "outside, must stay\n"
+pytestmark = pytest.mark.timeout(120)     # a hang is a failure, not a stuck suite
+
+
+@pytest.fixture(scope="module")
+def base(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A coarse run as a kill leaves it: every file written, status "running", and a
+    checkpoint a few steps before the end (so that a resume reads every file, computes
+    and writes them again)."""
+    root = tmp_path_factory.mktemp("base") / "run"
+    saved: dict[int, bytes] = {}
+    with pytest.MonkeyPatch.context() as patch:
+        def keep(run_dir: RunDir, state: SimulationState) -> Path:
+            path = write_checkpoint(run_dir, state)
+            saved[state.step] = path.read_bytes()
+            return path
+        patch.setattr(runner, "write_checkpoint", keep)
+        granflow.run("rectangle-rigid", COARSE, root)
+    (root / CHECKPOINT_FILE).write_bytes(saved[sorted(saved)[-2]])
+    summary = json.loads((root / "summary.json").read_text())
+    (root / "summary.json").write_text(json.dumps(summary | {"status": "running"}))
+    return root
+
+
+@pytest.fixture
+def hostile(base: Path, tmp_path: Path) -> Callable[[str, Callable[[Path], object]], Path]:
+    """A copy of ``base`` with ``edit`` applied to one of its paths; an outside file and an
+    outside folder beside it, for links to point at."""
+    (tmp_path / "outside.txt").write_text(OUTSIDE)
+    (tmp_path / "outside").mkdir()
+
+    def make(relpath: str, edit: Callable[[Path], object]) -> Path:
+        root = tmp_path / "run"
+        shutil.copytree(base, root)
+        edit(root / relpath)
+        return root
+
+    return make
+
+
+def outside_untouched(root: Path) -> bool:
+    return ((root.parent / "outside.txt").read_text() == OUTSIDE
+            and not any((root.parent / "outside").iterdir()))
+
+
+def cli(*args: str | Path) -> tuple[int, list[str]]:
+    """Exit code and the error lines of ``granflow ARGS`` (notes left out)."""
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main([str(a) for a in args])
+    lines = [line for line in err.getvalue().splitlines() if "granflow: note:" not in line]
+    assert "Traceback" not in err.getvalue()
+    return code, lines
+
+
+def load_everything(root: Path) -> None:
+    """What a user reads from a run directory through the API."""
+    run = granflow.load(root)
+    run.summary, run.config, run.diagnostics, run.surfaces  # noqa: B018
+    for t in run.output_times:
+        run.fields(t)
+
+
+def link_outside(path: Path) -> None:
+    """``path`` becomes a link to the outside file beside the run directory."""
+    outside = next(p / "outside.txt" for p in path.parents if (p / "outside.txt").exists())
+    path.parent.mkdir(exist_ok=True)
+    path.unlink(missing_ok=True)
+    path.symlink_to(outside)
+
+
+def replace_with(kind: str) -> Callable[[Path], None]:
+    def edit(path: Path) -> None:
+        if path.is_dir():
+            shutil.rmtree(path)
+        path.unlink(missing_ok=True)
+        if kind == "fifo":
+            os.mkfifo(path)
+        elif kind == "folder":
+            path.mkdir()
+        elif kind == "dev-zero":
+            path.symlink_to("/dev/zero")
+    return edit
+
+
+# ---------------------------------------------------------------- links: nothing outside
+
+
+@pytest.mark.parametrize("relpath", [
+    "fields/.fields.pvd.tmp", "fields/.fields_00003.vtu.tmp", "plots/.speed.tmp.gif",
+    "plots/.free_surface.tmp.png", "fields/fields.pvd", "diagnostics.csv", "summary.json"])
+def test_a_planted_link_never_makes_resume_or_plot_write_outside(hostile, relpath: str) -> None:
+    root = hostile(relpath, link_outside)
+    code, lines = cli("resume", root, "--quiet")     # computes, writes and plots
+    assert code == 0 and lines == [], lines
+    assert json.loads((root / "summary.json").read_text())["status"] == "completed"
+    assert outside_untouched(root)
+
+
+@pytest.mark.parametrize("folder", ["plots", "fields", "profiles"])
+def test_a_linked_folder_is_refused(hostile, folder: str) -> None:
+    root = hostile(folder, lambda p: (shutil.rmtree(p), p.symlink_to(p.parents[1] /
+                                                                      "outside")))
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and "not a folder of the run directory" in lines[0]
+    code, lines = cli("plot", root)
+    assert code in (0, 2) and len(lines) <= 1
+    assert outside_untouched(root)
+
+
+# ---------------------------------------------------------------- special files: no hang
+
+
+@pytest.mark.parametrize("kind, relpath", [
+    ("fifo", "summary.json"), ("fifo", "diagnostics.csv"),
+    ("fifo", "profiles/free_surface_t0.010.csv"), ("fifo", "fields/fields.pvd"),
+    ("fifo", CHECKPOINT_FILE), ("folder", "diagnostics.csv"), ("folder", "fields/fields.pvd"),
+    ("folder", CHECKPOINT_FILE), ("dev-zero", "summary.json"),
+    ("dev-zero", "fields/fields_00001.vtu"), ("dev-zero", "frames/frame_00000.npz"),
+    ("dev-zero", "profiles/free_surface_final.csv")])
+def test_a_special_file_where_a_file_belongs_is_one_line(hostile, kind: str,
+                                                         relpath: str) -> None:
+    root = hostile(relpath, replace_with(kind))
+    command = ["resume", root, "--quiet"] if relpath == CHECKPOINT_FILE else ["plot", root]
+    code, lines = cli(*command)
+    assert code in (0, 2) and len(lines) <= 1, (command, lines)
+    with contextlib.suppress(RunDirError, ConfigError, CheckpointError):
+        load_everything(root)
+
+
+def test_a_fifo_config_is_not_a_run_directory(hostile) -> None:
+    root = hostile("config.toml", replace_with("fifo"))
+    code, lines = cli("resume", root)
+    assert code == 2 and lines == [f"granflow: error: '{root}' is not a granflow run "
+                                   "directory (no config.toml)"]
+    with pytest.raises(RunDirError, match="not a granflow run directory"):
+        granflow.load(root)
+
+
+# ---------------------------------------------------------------- contents
+
+
+def not_utf8(path: Path) -> None:
+    data = path.read_bytes()
+    path.write_bytes(data[:20] + b"\xff\xfe\x80" + data[20:])
+
+
+@pytest.mark.parametrize("relpath", ["diagnostics.csv", "profiles/free_surface_t0.010.csv"])
+def test_a_csv_that_is_not_utf8_is_one_line(hostile, relpath: str) -> None:
+    root = hostile(relpath, not_utf8)
+    code, lines = cli("plot", root)
+    assert code == 2 and len(lines) == 1 and "is not UTF-8 text" in lines[0]
+    with pytest.raises(RunDirError, match="not UTF-8"):
+        load_everything(root)
+
+
+LAUGHS = ('<?xml version="1.0"?><!DOCTYPE l [<!ENTITY a "aaaaaaaaaa">'
+          '<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;"><!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;">]>'
+          '<VTKFile type="Collection"><Collection><DataSet timestep="&c;" file="f.vtu"/>'
+          '</Collection></VTKFile>')
+EXTERNAL = ('<?xml version="1.0"?><!DOCTYPE x [<!ENTITY e SYSTEM "file:///etc/passwd">]>'
+            '<VTKFile type="Collection"><Collection><DataSet timestep="0" file="&e;"/>'
+            '</Collection></VTKFile>')
+TRAVERSAL = ('<?xml version="1.0"?><VTKFile type="Collection"><Collection>'
+             '<DataSet timestep="0" file="../../outside.txt"/></Collection></VTKFile>')
+
+
+@pytest.mark.parametrize("text, why", [(LAUGHS, "refused"), (EXTERNAL, "refused"),
+                                       (TRAVERSAL, "not a snapshot file")],
+                         ids=["entity-expansion", "external-entity", "path-traversal"])
+def test_an_index_with_entities_or_paths_is_refused(hostile, text: str, why: str) -> None:
+    root = hostile("fields/fields.pvd", lambda p: p.write_text(text))
+    with pytest.raises(RunDirError, match=why):
+        granflow.load(root).output_times  # noqa: B018
+
+
+def vtu_bomb(path: Path) -> None:
+    """The first compressed array's data as one block declared 16 bytes that inflates to
+    64 MB."""
+    text = path.read_text()
+    block = __import__("zlib").compress(b"\0" * 2**26, 9)
+    header = np.array([1, 16, 16, len(block)], dtype="<u4").tobytes()
+    payload = base64.b64encode(header).decode() + base64.b64encode(block).decode()
+    match = re.search(r'(<DataArray[^>]*format="binary"[^>]*>)([^<]*)(</DataArray>)', text)
+    assert match is not None
+    path.write_text(text[:match.start(2)] + payload + text[match.end(2):])
+
+
+def vtu_damaged(path: Path) -> None:
+    """Valid XML that meshio cannot read (meshio.read would print and call sys.exit)."""
+    path.write_text('<?xml version="1.0"?><VTKFile type="UnstructuredGrid"><UnstructuredGrid>'
+                    '<Piece NumberOfPoints="3" NumberOfCells="1"></Piece></UnstructuredGrid>'
+                    '</VTKFile>')
+
+
+@pytest.mark.parametrize("edit, why", [
+    (vtu_bomb, "does not inflate to its declared size"),
+    (vtu_damaged, "cannot read the snapshot"),
+    (lambda p: p.write_bytes(p.read_bytes()[:len(p.read_bytes()) // 2]), "not valid XML")],
+    ids=["bomb", "damaged", "cut"])
+def test_run_fields_raises_one_error_and_never_exits(hostile, edit, why: str) -> None:
+    root = hostile("fields/fields_00001.vtu", edit)
+    run = granflow.load(root)
+    with pytest.raises(RunDirError, match=why):
+        run.fields(run.output_times[1])
+
+
+def checkpoint_bomb(path: Path) -> None:
+    """A small archive whose one member inflates to 64 MB of zeros (the limit is lowered to
+    16 MB below: the same as 2 GiB against the real limit, in a fraction of the time)."""
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr("__state__.npy", np.lib.format.magic(1, 0) + b"\0" * 2**26)
+    path.write_bytes(buffer.getvalue())
+    assert len(buffer.getvalue()) < 2**20
+
+
+@pytest.mark.parametrize("edit, why", [
+    (checkpoint_bomb, "declares"),
+    (lambda p: p.write_bytes(p.read_bytes()[:len(p.read_bytes()) // 2]),
+     "not a readable NumPy archive")], ids=["bomb", "cut"])
+def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: str,
+                                                         monkeypatch: pytest.MonkeyPatch
+                                                         ) -> None:
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+    root = hostile(CHECKPOINT_FILE, edit)
+    before = (root / "diagnostics.csv").read_bytes()
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and why in lines[0], lines
+    assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
