@@ -1,0 +1,129 @@
+"""Resume is exact and extends finished runs: a coarse two-material erodible collapse (with
+remeshes after the checkpoint) killed right after a checkpoint resumes to the uninterrupted
+run's result bit for bit; a finished run is extended to a later t_end; a run killed before
+its first checkpoint and keys that would change the problem are refused with one line.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import granflow
+import granflow.runner as runner
+from granflow.cli import main
+from granflow.io.checkpoint import write_checkpoint
+from granflow.io.run_dir import RunDir
+from granflow.io.run_state import SimulationState
+
+# 2 cm layer of its own friction angle, one cell across, 5 cm mesh: about 200 triangles,
+# 156 steps, remeshes at steps 114, 133 and 152 (about 7 s)
+ERODIBLE = {"mesh.size": 0.05, "geometry.erodible_thickness": 0.02, "mesh.layer_cells": 1,
+            "layer.friction_angle_deg": 30.0, "time.t_end": 0.15,
+            "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10}
+KILLED_AT = 110        # a checkpoint before the remeshes
+
+
+def summary(root: Path) -> dict:
+    return json.loads((root / "summary.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """The uninterrupted run, and a copy of its folder taken right after the checkpoint of
+    step KILLED_AT: what kill -9 at that moment leaves (status "running")."""
+    folder = tmp_path_factory.mktemp("resume")
+    with pytest.MonkeyPatch.context() as patch:
+        def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
+            path = write_checkpoint(run_dir, state)
+            if state.step == KILLED_AT:
+                shutil.copytree(run_dir.root, folder / "killed",
+                                ignore=shutil.ignore_patterns(".granflow.lock"))
+            return path
+        patch.setattr(runner, "write_checkpoint", copy_at)
+        granflow.run("trapezoid-erodible", ERODIBLE, folder / "reference")
+    return folder / "reference", folder / "killed"
+
+
+def test_a_killed_erodible_run_resumes_to_the_same_result(uninterrupted,
+                                                          tmp_path: Path) -> None:
+    reference, killed = uninterrupted
+    killed = Path(shutil.copytree(killed, tmp_path / "killed"))
+    assert summary(killed)["status"] == "running"
+    (killed / "fields" / ".fields.pvd.x1y2z3a4.tmp.pvd").write_text("left by the kill")
+    resumed = granflow.resume(killed)
+    first, again = summary(reference), summary(killed)
+    assert again["status"] == "completed" and again["resumed"] is True
+    assert first["two_materials"] is True and first["remeshes"] >= 3
+    # the same arithmetic: every diagnostics row equal (to round-off: here exactly)
+    a, b = pd.read_csv(reference / "diagnostics.csv"), resumed.diagnostics
+    assert len(a) == len(b) == first["steps"]
+    pd.testing.assert_frame_equal(a, b, rtol=1e-12, atol=1e-15)
+    for key in ("runout_m", "remeshes", "column_front_m", "layer_displaced_area_m2",
+                "erosion_depth_max_m", "layer_area_drift", "nonlinear_iterations"):
+        assert again[key] == pytest.approx(first[key], rel=1e-12, abs=1e-15), key
+    assert not (killed / "fields" / ".fields.pvd.x1y2z3a4.tmp.pvd").exists()
+
+
+def test_a_finished_run_is_extended_to_a_later_t_end(uninterrupted, tmp_path: Path) -> None:
+    reference, _ = uninterrupted
+    short = dict(ERODIBLE, **{"time.t_end": 0.08, "time.output_times": [0.05]})
+    root = granflow.run("trapezoid-erodible", short, tmp_path / "run").root
+    code, err = cli("resume", root)
+    assert code == 2 and "already finished" in err and "time.t_end" in err
+    extended = granflow.resume(root, {"time.t_end": 0.15, "time.output_times": [0.05, 0.1,
+                                                                                0.15]})
+    first, again = summary(reference), summary(root)
+    assert again["status"] == "completed" and again["t_final"] == pytest.approx(0.15)
+    diagnostics = extended.diagnostics
+    assert diagnostics["t"].is_monotonic_increasing and len(diagnostics) == again["steps"]
+    assert (root / "profiles" / "free_surface_t0.150.csv").is_file()
+    assert extended.config.time.t_end == 0.15          # config.toml says what was run
+    # the same flow; only the step cut at t = 0.08 differs from the uninterrupted run
+    assert abs(again["runout_m"] - first["runout_m"]) < 1e-4
+    assert again["remeshes"] == first["remeshes"]
+
+
+def cli(*args: str | Path) -> tuple[int, str]:
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main([str(a) for a in args])
+    lines = [line for line in err.getvalue().splitlines() if "note:" not in line]
+    assert len(lines) <= 1 and "Traceback" not in err.getvalue(), lines
+    return code, "".join(lines)
+
+
+@pytest.mark.parametrize("overrides, why", [
+    (["--set", "mesh.size=0.04"], "mesh.size cannot change when a run is resumed"),
+    (["--set", "layer.friction_angle_deg=25"], "layer.friction_angle_deg cannot change"),
+    (["--set", "time.t_end=0.1", "--set", "time.output_times=[0.1]"],
+     "must be later than the run's time"),
+    (["--set", "time.output_times=[0.02, 0.1, 0.15]"], "may only add times after"),
+], ids=["mesh", "material", "earlier-t-end", "past-output-time"])
+def test_a_resume_that_would_change_the_problem_is_one_line(uninterrupted, tmp_path: Path,
+                                                            overrides: list[str],
+                                                            why: str) -> None:
+    _, killed = uninterrupted
+    root = tmp_path / "copy"
+    shutil.copytree(killed, root)
+    before = (root / "config.toml").read_text()
+    code, err = cli("resume", root, *overrides)
+    assert code == 2 and why in err
+    assert (root / "config.toml").read_text() == before
+
+
+def test_a_run_killed_before_its_first_checkpoint_says_how_to_restart(uninterrupted,
+                                                                      tmp_path: Path) -> None:
+    _, killed = uninterrupted
+    root = tmp_path / "early"
+    shutil.copytree(killed, root)
+    shutil.rmtree(root / "checkpoint")
+    code, err = cli("resume", root)
+    assert code == 2 and "before its first checkpoint" in err
+    assert f"granflow run {root / 'config.toml'} --out {root} --force" in err
