@@ -244,10 +244,56 @@ DEEP = "a = " + "[" * 5000 + "]" * 5000 + "\n"
     (["run", "trapezoid-rigid", "--set", "mesh.size=0.001"], None),
     (["verify", "plug-flow", "--out", "a_file"], None),
     (["verify", "plug-flow", "--scheduler", "foo"], None),
+    (["run", "trapezoid-rigid", "--set", "geometry.front_angle_deg=5e-324"], None),
+    (["run", "trapezoid-rigid", "--set", "geometry.width=" + "1" * 5000], None),
+    (["run", "case.toml"], "[geometry]\nwidth = " + "1" * 5000 + "\n"),
+    (["run", "trapezoid-rigid", "--set", "numerics.tol=1e-14"], None),
+    (["run", "trapezoid-rigid", "--set", "time.t_end=10000", "--set",
+      "time.stop_at_rest=false"], None),
+    (["run", "trapezoid-rigid", "--set", "geometry.width=1000"], None),
+    (["run", "trapezoid-rigid", "--set", "mesh.size=0.0012"], None),
+    (["run", "rectangle-rigid", "--set", "time.t_end=0.01", "--set",
+      "time.output_times=[" + ", ".join(f"{0.0005 * k:g}" for k in range(1, 20)) + "]"], None),
+    (["run", "trapezoid-rigid", "--out", ""], None),
+    (["sweep", "case.toml"], 'base = "rectangle-rigid"\n[vary]\n"mesh.size" = ['
+     + ", ".join(["0.05"] * 101) + ']\n"geometry.height" = [' + ", ".join(["0.1"] * 101)
+     + "]\n"),
 ], ids=["scenario-list", "scenario-table", "deep-arrays", "deep-value", "deep-sweep",
         "dev-zero", "dev-urandom", "sweep-dev-zero", "tiny-mesh", "tiny-plug-mesh",
         "tiny-layer", "tiny-viscosity", "tiny-dt", "tiny-dt-max", "tiny-tol", "huge-mesh",
-        "verify-out-file", "verify-scheduler"])
+        "verify-out-file", "verify-scheduler", "front-angle-5e-324", "5000-digits",
+        "5000-digits-file", "tol-1e-14", "t-end-10000-no-rest", "width-1000", "mesh-0.0012",
+        "more-outputs-than-steps", "run-out-empty", "sweep-10201-runs"])
 def test_the_last_bad_inputs_exit_2_with_one_line(args: list[str], toml: str | None) -> None:
     """Each once ended in a traceback, a hang or hours of computing."""
     check_refused(args, toml)
+
+
+LONG = "n" * 300
+
+
+@pytest.mark.parametrize("command", [["sweep", "aspect-ratio"], ["converge", "rectangle-rigid"]])
+@pytest.mark.parametrize("option", [
+    ["--out", "a_file"], ["--out", "a_file/run"], ["--out", "/proc/granflow-x"],
+    ["--out", "/dev/null"], ["--out", "/dev/null/x"], ["--out", LONG], ["--out", ""],
+    ["--out", "."], ["--scheduler", "ucx://10.0.0.1:8786"],
+    ["--scheduler", "tls://10.0.0.1:8786"], ["--scheduler", "tcp://10.0.0.1:99999"],
+    ["--scheduler", "tcp://10.0.0.1"]],
+    ids=["file", "under-file", "proc", "dev-null", "under-dev-null", "long-name", "empty",
+         "current", "ucx", "tls", "port-99999", "no-port"])
+def test_sweep_and_converge_outputs_and_schedulers_exit_2(command: list[str],
+                                                         option: list[str]) -> None:
+    """Refused before a cluster starts or a folder is made."""
+    check_refused([*command, *option])
+
+
+def test_a_run_of_hours_is_announced_before_it_starts(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Valid but long (a 1 us fixed step to rest): a note with the estimate, then the run."""
+    err = io.StringIO()
+    with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stderr(err), \
+            contextlib.redirect_stdout(io.StringIO()), pytest.raises(AssertionError,
+                                                                     match="started"):
+        main(["run", "trapezoid-rigid", "--set", "time.dt=1e-6", "--out", f"{tmp}/run"])
+    note = err.getvalue().strip()
+    assert note.startswith("granflow: note: this run needs about ") and "hours" in note
+    assert "time.dt" in note and note.count("\n") == 0

@@ -265,3 +265,26 @@ def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: s
     code, lines = cli("resume", root, "--quiet")
     assert code == 2 and len(lines) == 1 and why in lines[0], lines
     assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
+
+
+def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The disk fills while the figures are drawn: every write from then on fails with
+    ENOSPC (the figures', then the error report's)."""
+    import errno
+
+    import granflow.io.run_dir as run_dir
+
+    full = []
+    atomic = run_dir._atomic
+
+    def no_space(target: Path, data: bytes | None = None):  # type: ignore[no-untyped-def]
+        if full or "plots" in Path(target).parts:
+            full.append(target)
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(target))
+        return atomic(target, data)
+
+    monkeypatch.setattr(run_dir, "_atomic", no_space)
+    overrides = [f"--set={key}={value}" for key, value in COARSE.items()]
+    code, lines = cli("run", "rectangle-rigid", *overrides, "--out", tmp_path / "run", "--quiet")
+    assert full and code == 2 and len(lines) == 1
+    assert "No space left on device" in lines[0]
