@@ -350,14 +350,12 @@ def check_solver(config: Config) -> None:
 
 def note_cost(config: Config) -> None:
     """A ``ConfigNote`` before a run of more than an hour (``config/cost.py``)."""
-    import warnings
-
-    from granflow.config import ConfigNote
     from granflow.config.cost import cost_note
+    from granflow.config.messages import note
 
-    note = cost_note(config)
-    if note is not None:
-        warnings.warn(note, ConfigNote, stacklevel=3)
+    message = cost_note(config)
+    if message is not None:
+        note(message)
 
 
 def solver_label(config: Config) -> str:
