@@ -324,11 +324,22 @@ def resume(path: str | Path, overrides: Mapping[str, Any] | Sequence[str] | None
     read): True raises ``CheckpointError``.
     """
     from granflow.io.checkpoint import CheckpointError, pickle_refusal
-    from granflow.resuming import resume_run
 
     if allow_pickle:
         raise CheckpointError("allow_pickle is no longer supported: "
                               + pickle_refusal(Path(path)))
+    try:
+        return resume_case(path, overrides, progress=progress, log=log)
+    except (RunDirError, ConfigError, CheckpointError) as err:   # worded for Python
+        raise type(err)(python_wording(str(err))) from None
+
+
+def resume_case(path: str | Path,
+                overrides: Mapping[str, Any] | Sequence[str] | None = None, *,
+                progress: bool = False, log: Callable[[str], None] | None = None) -> Run:
+    """``resume`` as the command line calls it: its messages name the command's options."""
+    from granflow.resuming import resume_run
+
     return Run(resume_run(path, _override_texts(overrides), progress=progress, log=log,
                           check_solver=check_solver))
 

@@ -256,7 +256,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _resume(args: argparse.Namespace) -> int:
-    from granflow.api import resume
+    from granflow.api import resume_case
 
     if args.allow_pickle:
         raise CheckpointError("--allow-pickle is no longer supported: granflow does not read "
@@ -264,8 +264,8 @@ def _resume(args: argparse.Namespace) -> int:
                               f"code; run the case again with `granflow run "
                               f"{args.run_dir / 'config.toml'} --out NEW_DIR`")
 
-    result = resume(args.run_dir, args.overrides, progress=not args.quiet,
-                    log=None if args.quiet else print)
+    result = resume_case(args.run_dir, args.overrides, progress=not args.quiet,
+                         log=None if args.quiet else print)
     return _report(RunDir.summary(result.root), RunDir(result.root))
 
 
