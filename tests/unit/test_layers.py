@@ -9,8 +9,8 @@ from pathlib import Path
 
 SOURCE = Path(__file__).resolve().parents[2] / "src" / "granflow"
 LAYERS = [   # top to bottom, as the architecture page lists them
-    ["cli", "converge", "convergence_report", "sweep", "api", "verify", "runner", "__main__",
-     "__init__"],
+    ["cli", "converge", "convergence_report", "sweep", "api", "resuming", "verify", "runner",
+     "__main__", "__init__"],
     ["scenarios", "io", "studies"],
     ["diagnostics", "ale"],
     ["fem"],
