@@ -272,10 +272,10 @@ def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.Monk
     ENOSPC (the figures', then the error report's)."""
     import errno
 
-    import granflow.io.run_dir as run_dir
+    import granflow.io.atomic as atomic_module
 
     full = []
-    atomic = run_dir._atomic
+    atomic = atomic_module._atomic
 
     def no_space(target: Path, data: bytes | None = None):  # type: ignore[no-untyped-def]
         if full or "plots" in Path(target).parts:
@@ -283,7 +283,7 @@ def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.Monk
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(target))
         return atomic(target, data)
 
-    monkeypatch.setattr(run_dir, "_atomic", no_space)
+    monkeypatch.setattr(atomic_module, "_atomic", no_space)
     overrides = [f"--set={key}={value}" for key, value in COARSE.items()]
     code, lines = cli("run", "rectangle-rigid", *overrides, "--out", tmp_path / "run", "--quiet")
     assert full and code == 2 and len(lines) == 1

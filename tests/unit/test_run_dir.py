@@ -222,3 +222,49 @@ def test_a_killed_process_leaves_every_finished_file_readable(tmp_path: Path) ->
     assert files_in(run) == ["diagnostics.csv", "summary.json"]
     assert json.loads((run / "summary.json").read_text()) == {"status": "running"}
     assert len(read_csv(run / "diagnostics.csv")) == 6
+
+
+# ---------------------------------------------------------------- a directory from someone else
+
+
+def test_summary_members_of_the_wrong_type_are_left_out(tmp_path: Path) -> None:
+    (tmp_path / "summary.json").write_text(json.dumps({
+        "status": ["completed"], "final_profiles_t": "0.3", "runout_m": True,
+        "outputs_at_rest": [0.5, "x"], "steps": 12, "message": "ok", "custom": {"a": 1}}))
+    assert RunDir.summary(tmp_path) == {"steps": 12, "message": "ok", "custom": {"a": 1}}
+    assert RunDir.status(tmp_path) is None
+    (tmp_path / "summary.json").write_text("[" * 100_000 + "]" * 100_000)
+    assert RunDir.summary(tmp_path) == {}
+
+
+def test_writers_replace_a_planted_link_and_never_follow_it(tmp_path: Path) -> None:
+    outside = tmp_path / "outside.txt"
+    outside.write_text("mine\n")
+    run = RunDir.create(tmp_path / "run")
+    for name in ("summary.json", "diagnostics.csv"):
+        (run.root / name).symlink_to(outside)
+    run.write_json("summary.json", {"status": "running"})
+    with CsvLog(run.root / "diagnostics.csv", HEADER, resume=True) as log:
+        log.append([0.1, 1e-3, 4])
+    assert outside.read_text() == "mine\n"
+    assert not (run.root / "summary.json").is_symlink()
+    assert read_csv(run.root / "diagnostics.csv") == [HEADER, ["0.1", "0.001", "4"]]
+    (tmp_path / "elsewhere").mkdir()
+    (run.root / "plots").symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(RunDirError, match="leads outside the run directory"):
+        run.write_text("plots/front.png", "x")
+    with pytest.raises(RunDirError, match="not a folder of the run directory"):
+        run.check_layout()
+    assert list((tmp_path / "elsewhere").iterdir()) == []
+
+
+def test_resume_removes_the_temporary_files_a_kill_left_and_nothing_else(
+        tmp_path: Path) -> None:
+    run = RunDir.create(tmp_path)
+    left = ["fields/.fields.pvd.tmp", "fields/.fields_00002.vtu.tmp", "plots/.speed.tmp.gif",
+            ".summary.json.ab12cd34.tmp.json", "profiles/.units.json.x1y2z3w4.tmp.json"]
+    kept = ["fields/fields.pvd", "notes.tmp.txt", "plots/.hidden", "fields/.keep.tmp/x"]
+    for name in left + kept:
+        run.write_text(name, "x")
+    run.remove_temporary_files()
+    assert files_in(tmp_path) == sorted(kept)

@@ -1,34 +1,33 @@
 """The run directory: every file of a run, written so that a killed run leaves each file it
 had finished readable, and never anything outside the folder.
 
-Whole files (config, summary, profiles, figures, fields) are written atomically: to a
-temporary file created exclusively beside the target (a fresh random name, never through
-an existing name or link), flushed and fsync'ed, then renamed over the target with
-``os.replace`` (which replaces a link in the target's place, not the file it points to).
-Logs that grow during the run (``diagnostics.csv``) are append-only and flushed after every
-row, so at worst the last row is missing. A run directory may come from someone else: its
-files are read through ``io/untrusted.py``.
+Whole files (config, summary, profiles, figures, fields) are written atomically
+(``io/atomic.py``: a temporary file created exclusively, renamed over the target); logs that
+grow during the run (``diagnostics.csv``) are append-only and flushed after every row
+(``io/csv_log.py``), so at worst the last row is missing. A run directory may come from
+someone else: its files are read through ``io/untrusted.py``.
 """
 
 from __future__ import annotations
 
 import contextlib
 import csv
-import errno
 import io
 import json
 import math
 import os
 import re
 import stat
-import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
 from filelock import FileLock, Timeout
 
-from granflow.io.untrusted import MB, RunDirError, is_regular, read_bytes, read_text
+from granflow.io.atomic import atomic_file, atomic_write_bytes, atomic_write_text
+from granflow.io.csv_log import CsvLog
+from granflow.io.folders import check_folder, prepare_folder
+from granflow.io.untrusted import MB, RunDirError, read_bytes, read_text
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
            "atomic_write_text", "check_folder", "prepare_folder"]
@@ -47,96 +46,10 @@ RUN_FOLDERS = {
     "plots": re.compile(r"[A-Za-z0-9_-]+\.(png|pdf|svg|gif)|error\.txt"),
     "checkpoint": re.compile(r"state\.(npz|pkl)"),
 }
-# temporary files: this module's (``_atomic``) and the fixed names of earlier versions
+# temporary files: those of io/atomic.py and the fixed names of earlier versions
 TEMPORARY = re.compile(r"\..+\.tmp(\.[A-Za-z0-9]+)?|\.granflow\.lock\.probe")
 SUMMARY_LIMIT = 16 * MB
-NAME_MAX = 255    # bytes in one name of a path (Linux, macOS, Windows)
 CHECKPOINT = "checkpoint/state.npz"
-
-
-def atomic_write_bytes(target: Path, data: bytes) -> None:
-    """Write ``data`` to ``target`` all at once: temp file, fsync, rename."""
-    with _atomic(target, data):
-        pass
-
-
-def atomic_write_text(target: Path, text: str) -> None:
-    """``Path.write_text`` done atomically (for benchmarks and ``verify``)."""
-    atomic_write_bytes(Path(target), text.encode("utf-8"))
-
-
-@contextlib.contextmanager
-def atomic_file(target: Path) -> Iterator[Path]:
-    """A temporary path to write (matplotlib, meshio, PIL) that replaces ``target`` on
-    success; the file exists (empty) under a fresh random name, so a writer that opens the
-    path by name writes into it and nowhere else."""
-    with _atomic(Path(target)) as tmp:
-        yield tmp
-
-
-@contextlib.contextmanager
-def _atomic(target: Path, data: bytes | None = None) -> Iterator[Path]:
-    """Yield a temporary path beside ``target`` (same suffix), created exclusively
-    (``mkstemp``: O_CREAT | O_EXCL, a random name); ``data``, if given, is written through
-    that descriptor. The file is renamed over ``target`` if the block succeeds, deleted
-    otherwise."""
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
-                                suffix=f".tmp{target.suffix}")
-    tmp = Path(name)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            if data is not None:
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
-        yield tmp
-        os.chmod(tmp, 0o644)  # mkstemp makes it 0600
-        os.replace(tmp, target)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-def check_folder(path: Path, what: str = "the output", option: str = "--out") -> None:
-    """What can be said of ``path`` as an output folder without creating anything: a name
-    (not empty, not the current folder) of parts of at most 255 bytes, that is not a file
-    or a device and is not under one; ``RunDirError`` otherwise."""
-    path = Path(path)
-    if str(path).strip() in ("", "."):
-        raise RunDirError(f"{option} must name a folder for {what} (got an empty path or the "
-                          "current folder)")
-    if any(len(os.fsencode(part)) > NAME_MAX for part in path.parts):
-        raise RunDirError(f"{option}: a name in '{str(path)[:80]}...' is longer than "
-                          f"{NAME_MAX} bytes")
-    for folder in [path, *path.parents]:
-        if os.path.lexists(folder) and not folder.is_dir():
-            raise RunDirError(f"{option} '{path}' exists and is not a folder" if folder == path
-                              else f"{option} '{path}' is under '{folder}', which is not a "
-                              "folder")
-
-
-def prepare_folder(path: Path, what: str = "the output", option: str = "--out") -> None:
-    """Make sure, before any work, that ``path`` is (or has been made) a folder this process
-    can write into (``check_folder``, then created and a file written and removed in it).
-    A refusal is one ``RunDirError`` and leaves nothing behind (the folders it made are
-    removed)."""
-    path = Path(path)
-    check_folder(path, what, option)
-    made = []
-    try:
-        for folder in reversed([path, *path.parents]):
-            if not os.path.lexists(folder):
-                folder.mkdir()
-                made.append(folder)
-        fd, probe = tempfile.mkstemp(dir=path, prefix=".granflow-probe.")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as err:
-        for folder in reversed(made):
-            with contextlib.suppress(OSError):
-                folder.rmdir()
-        raise RunDirError(f"cannot write into {option} '{path}': "
-                          f"{err.strerror or err}") from None
 
 
 def _json_safe(obj: Any) -> Any:
@@ -278,12 +191,16 @@ class RunDir:
     @staticmethod
     def summary(path: Path) -> dict[str, Any]:
         """``path``/summary.json, or {} without a readable one (missing, not a regular
-        file, not JSON, not an object)."""
+        file, not JSON, not an object). Members granflow reads that have the wrong type (a
+        status that is not text, a time that is not a number) are left out, as if
+        missing."""
         try:
             summary = json.loads(read_text(Path(path) / "summary.json", SUMMARY_LIMIT))
         except (RunDirError, ValueError, RecursionError):
             return {}
-        return summary if isinstance(summary, dict) else {}
+        if not isinstance(summary, dict):
+            return {}
+        return {k: v for k, v in summary.items() if _summary_member_ok(k, v)}
 
     @staticmethod
     def status(path: Path) -> str | None:
@@ -311,7 +228,7 @@ class RunDir:
     def atomic_path(self, relpath: str | Path) -> Iterator[Path]:
         """For writers that want a file name (meshio, matplotlib): write to the yielded
         temporary path (same suffix); it replaces ``relpath`` when the block ends cleanly."""
-        with _atomic(self.path(relpath)) as tmp:
+        with atomic_file(self.path(relpath)) as tmp:
             yield tmp
             with open(tmp, "rb+") as f:
                 os.fsync(f.fileno())
@@ -346,78 +263,25 @@ class RunDir:
         return CsvLog(self.path(relpath), header, resume=resume)
 
 
-class CsvLog:
-    """Append-only CSV file, one row per call of :meth:`append`, flushed at once.
-
-    A new log replaces any file of that name; ``resume=True`` continues an existing log,
-    which must have the same header.
-    """
-
-    def __init__(self, path: Path, header: Sequence[str], resume: bool = False) -> None:
-        self.path = Path(path)
-        self.header = list(header)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        existing = resume and is_regular(self.path) and self.path.stat().st_size > 0
-        if existing:
-            with io.StringIO(read_text(self.path), newline="") as f:
-                found = next(csv.reader(f), [])
-            if found != self.header:
-                raise RunDirError(f"cannot append to '{self.path}': its header {found} "
-                                  f"differs from {self.header}")
-        else:   # a fresh log replaces whatever has the name (a link is not followed)
-            atomic_write_bytes(self.path, _csv_line(self.header).encode("utf-8"))
-        self._file: TextIO = _open_append(self.path)
-        self._writer = csv.writer(self._file, lineterminator="\n")
-
-    def append(self, row: Sequence[Any] | Mapping[str, Any]) -> None:
-        """Append one row: a sequence in header order, or a mapping with every header key."""
-        if isinstance(row, Mapping):
-            missing = [k for k in self.header if k not in row]
-            if missing:
-                raise ValueError(f"{self.path.name}: row lacks {missing}")
-            row = [row[k] for k in self.header]
-        if len(row) != len(self.header):
-            raise ValueError(f"{self.path.name}: row has {len(row)} values, header "
-                             f"{len(self.header)}")
-        self._writer.writerow(row)
-        self._file.flush()
-
-    write = append
-
-    def close(self) -> None:
-        if not self._file.closed:
-            self._file.flush()
-            os.fsync(self._file.fileno())
-            self._file.close()
-
-    def __enter__(self) -> CsvLog:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+_SUMMARY_TEXT = frozenset({"scenario", "status", "message", "linear_solver"})
+_SUMMARY_NUMBERS = frozenset({
+    "t_final", "final_profiles_t", "stop_time_s", "wall_time_s", "runout_m", "steps",
+    "wall_height_m", "axis_height_m", "volume_relative_error", "velocity_relative_error_l2",
+    "nonlinear_iterations"})
 
 
-def _csv_line(row: Sequence[Any]) -> str:
-    buffer = io.StringIO()
-    csv.writer(buffer, lineterminator="\n").writerow(row)
-    return buffer.getvalue()
+def _summary_member_ok(key: str, value: Any) -> bool:
+    """A summary.json member of the type granflow reads it as."""
+    def number(x: Any) -> bool:
+        return isinstance(x, int | float) and not isinstance(x, bool)
 
-
-def _open_append(path: Path) -> TextIO:
-    """``path`` opened to append, only if it is a regular file itself (not a link, not a
-    FIFO: opening one to write would block)."""
-    flags = os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
-    try:
-        fd = os.open(path, flags)
-    except OSError as err:
-        reason = ("it is a symbolic link" if err.errno == errno.ELOOP
-                  else err.strerror or str(err))
-        raise RunDirError(f"cannot append to '{path}': {reason}") from None
-    if not stat.S_ISREG(os.fstat(fd).st_mode):
-        os.close(fd)
-        raise RunDirError(f"cannot append to '{path}': not a regular file")
-    os.set_blocking(fd, True)
-    return open(fd, "a", newline="", encoding="utf-8")  # noqa: SIM115
+    if key in _SUMMARY_TEXT:
+        return isinstance(value, str)
+    if key in _SUMMARY_NUMBERS:
+        return value is None or number(value)
+    if key == "outputs_at_rest":
+        return isinstance(value, list) and all(number(x) for x in value)
+    return True
 
 
 def _is_folder(path: Path) -> bool:
