@@ -288,7 +288,7 @@ def _positive_int(text: str) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from granflow.io.run_dir import prepare_folder
+    from granflow.io.folders import prepare_folder
     from granflow.sweep import Cluster, check_scheduler, load_sweep, run_sweep
 
     sweep = load_sweep(args.sweep)        # validated before any worker starts
@@ -329,7 +329,7 @@ def _tolerances(text: str) -> dict[str, float]:
 
 def _converge(args: argparse.Namespace) -> int:
     from granflow.converge import Study, format_table, run_study
-    from granflow.io.run_dir import check_folder, prepare_folder
+    from granflow.io.folders import check_folder, prepare_folder
     from granflow.sweep import Cluster, check_scheduler
 
     study = Study(args.scenario, args.mode, args.levels, tuple(args.overrides), args.tolerances)
@@ -378,8 +378,11 @@ def _report(summary: dict[str, Any], run_dir: RunDir, printed: bool = False) -> 
 
 
 def _verify(args: argparse.Namespace) -> int:
+    from granflow.io.folders import check_folder
     from granflow.verify import BOUND, VOLUME_BOUND, verify_plug_flow
 
+    if args.out is not None:
+        check_folder(args.out, "the verification")
     out = args.out or fresh_folder(f"verify-{args.case}-table{args.table}")
     if args.workers > 1 or args.scheduler:
         from granflow.sweep import Cluster

@@ -163,6 +163,7 @@ class Simulation:
             "steps_policy": copy.deepcopy(self.steps_policy),
             "stop_criteria": [c.save_state() if hasattr(c, "save_state") else None
                               for c in self.stop_criteria],
+            "stall_window": self._window,   # where the stall test's window started
         }
 
     def restore_state(self, state: dict[str, Any]) -> None:
@@ -177,6 +178,10 @@ class Simulation:
         for criterion, saved in zip(self.stop_criteria, state["stop_criteria"], strict=True):
             if saved is not None:
                 criterion.restore_state(saved)  # type: ignore[attr-defined]
+        window = state.get("stall_window")
+        if window is not None:
+            step, t, rejections = window
+            self._window = (int(step), float(t), {str(k): int(v) for k, v in rejections.items()})
 
     def wall_time(self) -> float:
         """Wall time of the run so far, over all its sessions (resumes)."""
