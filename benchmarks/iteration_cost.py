@@ -47,7 +47,7 @@ def median_ms(call: Callable[[], object], repeat: int) -> float:
 def assembly_variants(solver, repeat: int) -> dict:
     """Median assembly time of the iterate-dependent matrix, plain and compiled, and the
     largest difference of the compiled matrices from the plain one."""
-    symbols = _symbols(solver.space, solver.solution)
+    symbols = _symbols(solver.space, solver.solution, solver.coordinates)
     out, reference = {}, None
     for label, compiled in (("plain", None), ("compiled", False), ("realcompiled", True)):
         form = ngs.BilinearForm(solver.space)
@@ -66,6 +66,32 @@ def assembly_variants(solver, repeat: int) -> dict:
         out[label] = {"assemble_ms": median_ms(form.Assemble, repeat),
                       "max_difference": float(np.abs(values - reference).max())}
     return out
+
+
+def term_costs(solver, repeat: int) -> dict:
+    """Median assembly time (ms) of each term of (3.2) on its own: the ones read at the
+    iterate (reassembled every iteration) and the step-constant ones (once a step)."""
+    symbols = _symbols(solver.space, solver.solution, solver.coordinates)
+    out = {}
+    for term in solver.terms:
+        lhs = term.lhs(symbols, solver.mesh)
+        if lhs is None:
+            continue
+        form = ngs.BilinearForm(solver.space)
+        form += lhs
+        form.Assemble()
+        key = type(term).__name__ + (" (once a step)" if getattr(term, "step_constant", False)
+                                     else "")
+        out[key] = out.get(key, 0.0) + median_ms(form.Assemble, repeat)
+    return out
+
+
+def mesh_velocity_cost(problem, repeat: int) -> dict:
+    """The mesh velocity (3.6) of one step: its solve as the mover does it (assembly and
+    factorisation of the moved mesh's elasticity matrix, then the solve)."""
+    mover = problem.simulation.mesh_motion
+    dt = problem.simulation.dt or 1e-3
+    return {"prepare_ms": median_ms(lambda: mover.prepare(dt), repeat)}
 
 
 def gmres_with_first_lu(problem, window: float) -> dict:
@@ -120,9 +146,10 @@ def main() -> None:
     parser.add_argument("--window", type=float, default=0.05)
     parser.add_argument("--repeat", type=int, default=40)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/iteration_cost"))
+    parser.add_argument("--set", dest="overrides", action="append", default=[])
     args = parser.parse_args()
-    config = load_config(args.scenario, [f"time.t_end={args.at}", "output.progress=false",
-                                         "time.output_times=[]"])
+    config = load_config(args.scenario, [*args.overrides, f"time.t_end={args.at}",
+                                         "output.progress=false", "time.output_times=[]"])
     problem = build_problem(config)
     problem.simulation.run()
     solver = problem.solver
@@ -135,6 +162,8 @@ def main() -> None:
         "scenario": args.scenario, "t": problem.simulation.t, "triangles": solver.mesh.ne,
         "dofs": solver.space.ndof,
         "assembly": assembly_variants(solver, args.repeat),
+        "assembly_by_term_ms": term_costs(solver, args.repeat),
+        "mesh_velocity": mesh_velocity_cost(problem, args.repeat),
         "factorise_ms": median_ms(system.lu.update, args.repeat),
         "back_substitute_ms": median_ms(lambda: system.lu.solve(system.f.vec, solution),
                                         args.repeat),
