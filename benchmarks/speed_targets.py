@@ -6,8 +6,10 @@ Run: python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
 
 Every run is ``granflow run SCENARIO --quiet`` in a new process (figures and animation
 included), one after the other and alternating within each pair, so that both members of a
-pair see the same load on this shared machine; the medians over REPEAT rounds and their
-ratio are reported, with each run's loop time (summary.json), steps and iterations:
+pair see the same load on this shared machine; the medians over REPEAT rounds of each
+process's processor time (user + system: what the load of other processes on the machine
+changes least) and wall time, and their ratios, are reported with each run's loop time
+(summary.json), steps and iterations:
 
 * trapezoid: ``trapezoid-erodible`` against ``trapezoid-rigid``;
 * cylinder: ``cylinder-erodible`` against ``cylinder-rigid``;
@@ -24,6 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -54,11 +57,15 @@ def run(scenario: str, sets: list[str], out: Path, src: Path | None = None) -> d
         env["PYTHONPATH"] = str(src)
     command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out),
                "--force", "--quiet", *(arg for o in sets for arg in ("--set", o))]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL, env=env)
     wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     summary = json.loads((out / "summary.json").read_text())
-    return {"process_wall_time_s": wall} | {k: summary.get(k) for k in KEYS}
+    return {"process_wall_time_s": wall, "process_cpu_time_s": cpu} | {
+        k: summary.get(k) for k in KEYS}
 
 
 def compare(name: str, first: tuple[str, list[str], Path | None],
@@ -72,6 +79,8 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
             print(name, label, k, json.dumps(result), flush=True)
     median = {label: statistics.median(r["process_wall_time_s"] for r in rows)
               for label, rows in runs.items()}
+    cpu = {label: statistics.median(r["process_cpu_time_s"] for r in rows)
+           for label, rows in runs.items()}
     loop = {label: statistics.median(r["wall_time_s"] for r in rows)
             for label, rows in runs.items()}
     return {"first": {"scenario": first[0], "overrides": first[1],
@@ -79,6 +88,8 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
             "second": {"scenario": second[0], "overrides": second[1],
                        "src": str(second[2]) if second[2] else None},
             "runs": runs, "process_wall_time_median_s": median,
+            "process_cpu_time_median_s": cpu,
+            "cpu_ratio_second_to_first": cpu["second"] / cpu["first"],
             "loop_wall_time_median_s": loop,
             "ratio_second_to_first": median["second"] / median["first"],
             "loop_ratio_second_to_first": loop["second"] / loop["first"]}
@@ -86,7 +97,8 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
 
 def main(argv: list[str]) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--pairs", nargs="+", default=list(PAIRS), choices=list(PAIRS))
+    parser.add_argument("--pairs", nargs="*", default=list(PAIRS), choices=list(PAIRS),
+                        help="the scenario pairs (none: only the baseline)")
     parser.add_argument("--baseline-src", type=Path,
                         help="src folder of an earlier granflow checkout: time its default "
                              "collapse against this one's")
@@ -102,15 +114,16 @@ def main(argv: list[str]) -> None:
     for name, (first, second) in cases.items():
         results[name] = compare(name, first, second, args.repeat, args.out / "runs")
         atomic_write_text(results_file, json.dumps(results, indent=2))
-    lines = ["| pair | first | second | process (s), first / second | second / first | "
-             "loop (s), first / second | iterations, first / second |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| pair | first | second | processor time (s), first / second | second / first "
+             "| wall time (s), first / second | second / first | iterations, first / second |",
+             "|---|---|---|---|---|---|---|---|"]
     for name, r in results.items():
-        p, lp = r["process_wall_time_median_s"], r["loop_wall_time_median_s"]
+        p, c = r["process_wall_time_median_s"], r["process_cpu_time_median_s"]
         its = [r["runs"][k][0]["nonlinear_iterations"] for k in ("first", "second")]
         lines.append(f"| {name} | {r['first']['scenario']} | {r['second']['scenario']} | "
-                     f"{p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} | "
-                     f"{lp['first']:.1f} / {lp['second']:.1f} | {its[0]} / {its[1]} |")
+                     f"{c['first']:.1f} / {c['second']:.1f} | {r['cpu_ratio_second_to_first']:.2f} "
+                     f"| {p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} "
+                     f"| {its[0]} / {its[1]} |")
     print("\n".join(lines))
     atomic_write_text(args.out / "speed_targets.md", "\n".join(lines) + "\n")
 
