@@ -57,7 +57,8 @@ RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same 
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
-            "mesh.layer_ahead=0.1"]   # benchmarks/layer_ahead.py
+            "mesh.layer_ahead=0.1",   # benchmarks/layer_ahead.py
+            "numerics.anderson_depth=3"]   # as trapezoid-erodible
 CELLS = 2   # across the layer, unless --cells says otherwise
 COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100"]
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",

@@ -179,8 +179,8 @@ def test_argument_errors_exit_2_in_one_line(args: list[str], expected: str, tmp_
     (["no-such-case"], "unknown scenario 'no-such-case'"),
     (["rectangle-rigid", "--set", "mesh.sise=1"], "unknown configuration key 'mesh.sise'"),
     (["trapezoid-erodible", "--in", "space", "--levels", "5"],
-     "level 3 of --levels 5 (--in space): geometry.erodible_thickness = 0.005 with "
-     "mesh.layer_cells = 16"),
+     "level 4 of --levels 5 (--in space): mesh.layer_cells = 32: must be an integer in "
+     "[1, 16]"),
 ])
 def test_invalid_cases_exit_2_before_any_run(args: list[str], expected: str, tmp_path: Path,
                                              monkeypatch: pytest.MonkeyPatch,

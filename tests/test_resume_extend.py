@@ -24,7 +24,10 @@ from granflow.io.run_state import SimulationState
 
 # 2 cm layer of its own friction angle, one cell across, 5 cm mesh: about 200 triangles,
 # 156 steps, remeshes at steps 114, 133 and 152 (about 7 s)
+# (isotropic cells and a tight tolerance: the remeshes come after the checkpoint; Anderson's
+# mixing as in the scenario)
 ERODIBLE = {"mesh.size": 0.05, "geometry.erodible_thickness": 0.02, "mesh.layer_cells": 1,
+            "mesh.layer_aspect": 1.0, "numerics.tol": 3e-5, "numerics.anderson_depth": 3,
             "layer.friction_angle_deg": 30.0, "time.t_end": 0.15,
             "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10}
 KILLED_AT = 110        # a checkpoint before the remeshes

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-SAME = 1e-6   # relative: a vertex this close to the layer's top is on it (and to an end)
+SAME = 1e-6     # relative: a vertex this close to the layer's top is on it
+SHORTEST = 0.05  # a crossing closer to an end of its edge (relative) is not split there
 
 
 @dataclass(frozen=True)
@@ -55,7 +56,9 @@ class LayerStretch:
         """The closed polygon ``points`` with a vertex added where an edge crosses the
         layer's top, and for each vertex the index of the edge it lies on: so every edge
         lies on one side and the map keeps it straight (the boundary, and the area, are
-        the same in both coordinates)."""
+        the same in both coordinates). A crossing within SHORTEST of an end of its edge
+        is left: the piece it would cut off would be a sliver Netgen cannot mesh, and the
+        part of the edge beyond the top is too short for the map to bend it measurably."""
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         if self.identity:
             return pts.copy(), np.arange(len(pts))
@@ -69,7 +72,7 @@ class LayerStretch:
             if side[i] * side[j] < 0:
                 q = pts[j]
                 s = (self.top - p[1]) / (q[1] - p[1])
-                if SAME < s < 1 - SAME:
+                if SHORTEST < s < 1 - SHORTEST:
                     out.append((p[0] + s * (q[0] - p[0]), self.top))
                     edge.append(i)
         return np.array(out), np.array(edge)
