@@ -6,7 +6,7 @@ local_error, tension_on, tension_x (m), area_correction, remesh_area_change (rel
 over an erodible layer also the entrainment columns ``LAYER_COLUMNS`` (areas in m^2 per
 metre, positions and depth in m, the area drift relative; ``scenarios/column_layer.py``);
 with a hysteretic friction ``mobilised_fraction``, the mean mobilisation of the mass
-(``scenarios/column_mobilisation.py``).
+(``scenarios/mobilisation.py``).
 In an axisymmetric run front_x is the radius r (m), volume is the volume of revolution (m^3)
 and kinetic_energy the whole body's (J). The file is append-only and flushed after each
 row; a resumed run first cuts it back to the rows its checkpoint had seen, then appends.

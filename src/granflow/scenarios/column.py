@@ -30,9 +30,9 @@ from granflow.scenarios.column_discretisation import (
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures, Table
-from granflow.scenarios.column_mobilisation import MobilisationTracking
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.scenarios.materials import layer_material
+from granflow.scenarios.mobilisation import MobilisationTracking
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy

@@ -1,7 +1,9 @@
-"""The mobilisation state of a hysteretic friction through a collapse
-(``physics/hysteresis.py``): advanced after each accepted step (carried with the material
-through the moving mesh, then relaxed at the step's shear rates; ``fem/mobilisation.py``),
-carried through every remesh, and checkpointed.
+"""The mobilisation state of a hysteretic friction through a run (``physics/hysteresis.py``):
+advanced after each accepted step (carried with the material through the moving mesh, then
+relaxed at the step's shear rates; ``fem/mobilisation.py``), carried through every remesh of
+a collapse, and checkpointed. Used by the collapse and by the periodic layer (where the flow
+runs along the bed and the state, uniform along it, needs nothing across the periodic ends:
+the transport treats them as walls).
 
 The step is applied once, whichever comes first after it is accepted: a remesh (before the
 state moves to the new mesh, on the mesh the step was computed on) or this observer. The
@@ -16,18 +18,27 @@ r-z over the volume of revolution).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
+import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.transfer import transfer_cells
 from granflow.config import Config
+from granflow.fem.flow import FlowSolver
 from granflow.fem.mobilisation import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.physics.hysteresis import Relaxation, pick, relaxed
-from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.materials import layer_material, relaxation
 from granflow.simulation.simulation import Simulation
+
+
+class Host(Protocol):
+    """Where the current mesh, flow and state live (a collapse's remesh replaces them)."""
+
+    mesh: ngs.Mesh
+    solver: FlowSolver
+    mobilisation: MobilisationField | None
 
 
 @dataclass
@@ -35,7 +46,7 @@ class MobilisationTracking:
     """The loop observer that owns the mobilisation's time (``t``: the state is s(t))."""
 
     config: Config
-    current: ColumnDiscretisation
+    current: Host
     simulation: Simulation
     t: float = 0.0
     _coordinates: np.ndarray = field(init=False, repr=False)
@@ -50,7 +61,7 @@ class MobilisationTracking:
 
     def _share(self, column: Any, layer: Any) -> Any:
         """A value per triangle: the column's, or the layer's where it holds most of it."""
-        fraction = self.current.fraction
+        fraction = getattr(self.current, "fraction", None)
         if fraction is None:          # one material
             return column
         return pick(column, layer, fraction.vec.FV().NumPy())
@@ -88,7 +99,7 @@ class MobilisationTracking:
     def __call__(self, sim: Simulation) -> None:
         self.advance()
 
-    def carry(self, new: ColumnDiscretisation, old_end: float) -> None:
+    def carry(self, new: Host, old_end: float) -> None:
         """Before a remesh replaces the current discretisation by ``new``: the pending step
         on the old mesh, then the state onto the new one; material beyond ``old_end`` (a
         lengthened layer) has been at rest from the start."""
