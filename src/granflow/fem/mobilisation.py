@@ -61,10 +61,10 @@ class MobilisationField:
         s, v = self.space.TnT()
         inward = ngs.IfPos(flux, 0.0, flux)      # -[-(u - w).n]_+
         inflow = ngs.BilinearForm(self.space)    # its diagonal: the in-flux of each cell
-        inflow += inward * (s.Other() - s) * v * ngs.dx(element_boundary=True)
+        inflow += (inward * (s.Other() - s) * v).Compile() * ngs.dx(element_boundary=True)
         # on the boundary Other() is 0 in an assembled form: there the neighbour is the
         # cell itself, nothing enters
-        inflow += inward * s * v * ngs.ds(skeleton=True)
+        inflow += (inward * s * v).Compile() * ngs.ds(skeleton=True)
         inflow.Assemble()
         data, columns, rows = inflow.mat.CSR()
         n = len(self.values)

@@ -25,7 +25,8 @@ which makes the incompressible equations ill-posed (Barker & Gray 2017, J. Fluid
 
 ``m`` of sigma' = m Du is linear in kappa and both laws share eta, so the hysteretic law is
 the start law (Drucker-Prager at mu_start) and the flow law blended with s, as
-``physics/regions.py`` blends two materials.
+``physics/regions.py`` blends two materials; it is evaluated as one law with the blended
+yield stress (one regularised rate instead of two in the assembled coefficient).
 """
 
 from __future__ import annotations
@@ -36,9 +37,10 @@ from typing import Any
 
 import numpy as np
 
+from granflow.physics.mu_i import MuI
 from granflow.physics.ops import NUMPY_OPS, Ops
 from granflow.physics.regions import TwoMaterials, blend
-from granflow.physics.rheology import DruckerPrager, Rheology
+from granflow.physics.rheology import DruckerPrager
 
 
 @dataclass(frozen=True)
@@ -91,7 +93,7 @@ class Hysteretic:
     coefficient function), ``per_triangle`` its values triangle by triangle (an object with
     the engine's ``vec``, for ``fem/primal_dual.py`` and the outputs)."""
 
-    flow: Rheology
+    flow: DruckerPrager | MuI
     start: DruckerPrager
     relaxation: Relaxation
     mobilisation: Any
@@ -117,12 +119,22 @@ class Hysteretic:
     def mu_start(self) -> float:
         return self.start.mu_s
 
+    def yield_stress_sq(self, strain_rate_sq: Any, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """kappa = sqrt(2) ((1 - s) mu_start + s mu_flow) [p]_+ (2.4), mu_flow = mu(I) at
+        the regularised rate for a mu(I) flow law."""
+        s, flow = self.mobilisation, self.flow
+        if isinstance(flow, DruckerPrager):     # one friction, one product
+            return math.sqrt(2.0) * blend(self.start.mu_s, flow.mu_s, s) * ops.positive_part(
+                pressure)
+        assert isinstance(flow, MuI)
+        return blend(self.start.yield_stress(pressure, ops),
+                     flow.yield_stress_sq(strain_rate_sq, pressure, ops), s)
+
     def effective_viscosity_sq(self, strain_rate_sq: Any, pressure: Any,
                                ops: Ops = NUMPY_OPS) -> Any:
-        """``m`` of (2.13) with kappa = sqrt(2) ((1 - s) mu_start + s mu_flow) [p]_+."""
-        return blend(self.start.effective_viscosity_sq(strain_rate_sq, pressure, ops),
-                     self.flow.effective_viscosity_sq(strain_rate_sq, pressure, ops),
-                     self.mobilisation)
+        """``m`` of (2.13): 2 eta + kappa / sqrt(|Du|^2 + eps^2), kappa of both frictions."""
+        return 2.0 * self.viscosity + self.yield_stress_sq(strain_rate_sq, pressure, ops) / (
+            ops.sqrt(strain_rate_sq + self.eps**2))
 
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:
