@@ -36,6 +36,7 @@ from granflow.io.frames import AnimationFrames
 from granflow.io.replot import draw_figures
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
+from granflow.scenarios.materials import hysteretic
 from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
 from granflow.simulation.simulation import RunResult, Simulation
 
@@ -145,7 +146,8 @@ class _Run:
             problem.mesh, problem.solver.velocity, problem.solver.density,
             coords=problem.solver.coordinates)["volume"]
         self.diagnostics = DiagnosticsLog(run_dir, saved, layer=(
-            config.geometry.kind == "column" and config.geometry.erodible_thickness > 0))
+            config.geometry.kind == "column" and config.geometry.erodible_thickness > 0),
+            mobilisation=hysteretic(config))
         self.fields = FieldSnapshots(run_dir, problem, saved)
         # when the mesh was replaced and when a surface node landed on the bed (the figures
         # mark them: each changes the kinetic energy at once)

@@ -47,6 +47,7 @@ ALTERNATIVE = {
     "layer.rheology": '"mu-i"', "layer.density": 1400.0, "layer.viscosity": 0.5,
     "mesh.layer_ahead": 0.1,
     "layer.grain_diameter": 1e-8, "material.grain_diameter": 1e-8,   # any creep is "displaced"
+    "material.initial_mobilisation": 0.5, "layer.friction": '"hysteretic"',
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],

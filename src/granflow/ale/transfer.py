@@ -227,3 +227,20 @@ def transfer_tensor(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
         vertex_field.vec.FV().NumPy()[:] = values[:, c]
         components.append(vertex_field)
     new.Set(ngs.CF(tuple(components), dims=(2, 2)))
+
+
+def transfer_cells(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
+    """A piecewise-constant field (L2 of order 0) onto the new mesh: each new triangle
+    takes the mean of the old field at four of its points (its centroid and the points
+    halfway from it to the corners), each found in the old mesh (clamped into it). Mixing
+    the old cells that overlap a new one, as an area average would, without intersecting
+    the meshes."""
+    mesh, old_mesh = new.space.mesh, old.space.mesh
+    corners = mesh.ngmesh.Coordinates()[
+        mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1]
+    centroid = corners.mean(axis=1, keepdims=True)
+    points = np.concatenate([centroid, 0.5 * (centroid + corners)], axis=1).reshape(-1, 2)
+    old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
+    inside = clamp_inside(old_mesh, points)
+    values = np.asarray(old(locate(old_mesh, inside)), dtype=float).reshape(-1, 4)
+    new.vec.FV().NumPy()[:] = values.mean(axis=1)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from granflow.config.cost import cost_problems
 from granflow.config.messages import fmt_value
-from granflow.config.schema import Layer
+from granflow.config.schema import Layer, Material
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
@@ -97,6 +97,7 @@ def problems(c: Config) -> Iterator[str]:
                f"{MAX_TRIANGLES} triangles allowed); use mesh.size >= {smallest:.2g}")
     yield from _layer_problems(c)
     yield from cost_problems(c)
+    yield from _friction_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
@@ -157,6 +158,44 @@ def _layer_problems(c: Config) -> Iterator[str]:
     if layer.rheology == "mu-i" and layer.grain_density < layer.density:
         yield (f"layer.grain_density = {layer.grain_density!r} must be at least the layer's "
                f"density {layer.density!r} (their ratio is the packing fraction)")
+
+
+HYSTERESIS_KEYS = ("start_friction_angle_deg", "mobilisation_time", "rest_time",
+                   "mobilisation_shear_rate", "initial_mobilisation")
+CREEP_MARGIN = 100.0   # mobilisation_shear_rate / eps at least: the creep of (2.13) at rest,
+                       # eps ratio / sqrt(1 - ratio^2), passes it only within 5e-5 of yield
+
+
+def _hysteretic_materials(c: Config) -> dict[str, Material]:
+    """The run's materials with a hysteretic friction, by section ("material", "layer")."""
+    out: dict[str, Material] = {}
+    if c.material.friction == "hysteretic":
+        out["material"] = c.material
+    if c.geometry.kind == "column" and c.geometry.erodible_thickness > 0:
+        own = {k: v for k, v in c.layer.model_dump().items() if v is not None}
+        layer = c.material.model_copy(update=own)
+        if layer.friction == "hysteretic":
+            out["layer"] = layer
+    return out
+
+
+def _friction_problems(c: Config) -> Iterator[str]:
+    """A hysteretic friction: the start friction at least the flow's, a threshold far above
+    the regularisation's creep, and a method that takes a friction field."""
+    materials = _hysteretic_materials(c)
+    for section, mat in materials.items():
+        if mat.start_friction_angle_deg < mat.friction_angle_deg:
+            yield (f"{section}.start_friction_angle_deg = {mat.start_friction_angle_deg!r} must "
+                   f"be at least the friction angle {mat.friction_angle_deg!r} (the "
+                   "friction at rest is the larger)")
+        if mat.mobilisation_shear_rate < CREEP_MARGIN * c.numerics.eps:
+            yield (f"{section}.mobilisation_shear_rate = {mat.mobilisation_shear_rate!r} must be "
+                   f"at least {CREEP_MARGIN:g} x numerics.eps = "
+                   f"{CREEP_MARGIN * c.numerics.eps:.3g} (material at rest creeps at rates of "
+                   "order eps and must not count as sheared)")
+    if materials and c.numerics.method == "augmented-lagrangian":
+        yield ("numerics.method = 'augmented-lagrangian' needs a constant friction; use "
+               "'regularized' with friction = 'hysteretic'")
 
 
 def _axisymmetric_problems(c: Config) -> Iterator[str]:
@@ -247,6 +286,15 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
     else:
         add("time.error_tol time.error_floor", "time.adaptive = false")
+    hysteretic = _hysteretic_materials(c)
+    if not hysteretic:
+        add(" ".join(f"material.{k}" for k in HYSTERESIS_KEYS),
+            "it is a parameter of the hysteretic friction, and material.friction = 'constant'"
+            + (" (the layer's too)" if erodible else ""))
+    if erodible and "layer" not in hysteretic:
+        add(" ".join(f"layer.{k}" for k in HYSTERESIS_KEYS), "it is a parameter of the "
+            "hysteretic friction, and the layer's (layer.friction, else material.friction) "
+            "is 'constant'")
     if c.numerics.method == "regularized":
         add("numerics.al_r", "numerics.method = 'regularized'")
     else:

@@ -33,6 +33,7 @@ Duration = Annotated[float, Field(gt=0, le=1e4)]         # s
 Step = Annotated[float, Field(ge=1e-12, le=100)]         # s, a time step
 Penalty = Annotated[float, Field(ge=1, le=1e20)]
 Count = Annotated[int, Field(ge=0, le=10**9)]
+ShearRate = Annotated[float, Field(gt=0, le=1e6)]        # 1/s
 
 
 class _Section(BaseModel):
@@ -84,6 +85,12 @@ class Material(_Section):
     i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
     grain_diameter: Annotated[float, Field(gt=0, le=10)]  # mu(I): d (m)
     grain_density: Annotated[float, Field(ge=1, le=1e5)]  # mu(I): rho_s (kg/m^3)
+    friction: Literal["constant", "hysteretic"]  # hysteretic: mu_start at rest, mu_flow flowing
+    start_friction_angle_deg: Angle  # hysteretic: mu_start = tan(angle)
+    mobilisation_time: Duration  # hysteretic: tau_m (s), s -> 1 where sheared
+    rest_time: Duration  # hysteretic: tau_r (s), s -> 0 at rest
+    mobilisation_shear_rate: ShearRate  # hysteretic: sheared above this sqrt(2)|Du| (1/s)
+    initial_mobilisation: Annotated[float, Field(ge=0, le=1)]  # hysteretic: s at t = 0
 
     @property
     def mu_s(self) -> float:
@@ -108,6 +115,12 @@ class Layer(_Section):
     i0: Annotated[float, Field(gt=0, le=100)] | None
     grain_diameter: Annotated[float, Field(gt=0, le=10)] | None  # m
     grain_density: Annotated[float, Field(ge=1, le=1e5)] | None  # kg/m^3
+    friction: Literal["constant", "hysteretic"] | None
+    start_friction_angle_deg: Angle | None
+    mobilisation_time: Duration | None  # s
+    rest_time: Duration | None  # s
+    mobilisation_shear_rate: ShearRate | None  # 1/s
+    initial_mobilisation: Annotated[float, Field(ge=0, le=1)] | None
 
 
 class Geometry(_Section):

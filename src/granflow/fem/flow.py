@@ -28,6 +28,7 @@ from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
+from granflow.physics.hysteresis import Hysteretic
 from granflow.physics.regions import TwoMaterials
 from granflow.simulation.outcomes import IterationReport
 
@@ -38,10 +39,12 @@ Density = float | ngs.CoefficientFunction   # kg/m^3: one material, or blended (
 
 
 def drucker_prager(law: Rheology) -> bool:
-    """The Drucker-Prager law (2.13), alone or as both materials of a column over a layer:
-    what the primal-dual correction is built for."""
+    """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer, or
+    with a hysteretic friction: what the primal-dual correction is built for."""
     if isinstance(law, TwoMaterials):
-        return isinstance(law.column, DruckerPrager) and isinstance(law.layer, DruckerPrager)
+        return drucker_prager(law.column) and drucker_prager(law.layer)
+    if isinstance(law, Hysteretic):
+        return drucker_prager(law.flow)
     return isinstance(law, DruckerPrager)
 
 

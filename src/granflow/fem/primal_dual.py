@@ -36,7 +36,8 @@ import numpy as np
 from ngsolve.comp import IntegrationRuleSpace
 
 from granflow.fem.forms import strain_rate
-from granflow.physics import DruckerPrager
+from granflow.physics import DruckerPrager, Rheology
+from granflow.physics.hysteresis import Hysteretic
 from granflow.physics.regions import TwoMaterials, blend
 
 COMPONENTS = ((0, 0), (0, 1), (1, 1))   # a symmetric 2x2 tensor stored as xx, xy, yy
@@ -71,7 +72,7 @@ class DualVariable:
     side gamma : Dv.
     """
 
-    def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager | TwoMaterials,
+    def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager | TwoMaterials | Hysteretic,
                  iterate: ngs.GridFunction) -> None:
         self.space = IntegrationRuleSpace(mesh, order=1)   # the 3 edge midpoints
         self.dx = ngs.dx(intrules=self.space.GetIntegrationRules())
@@ -151,15 +152,14 @@ class DualVariable:
         self.gamma.set(((alpha * self._du_k) @ WEIGHTS + slope * self._p_k)[:, None] * lam)
 
     def _yield_slope(self) -> float | np.ndarray:
-        """kappa / [p]_+ = sqrt(2) mu_s (2.4): one number, or per point for a column over a
-        layer of another Drucker-Prager material (blended with the triangles' fractions)."""
-        law = self.rheology
-        if isinstance(law, TwoMaterials):
-            per_triangle = law.per_triangle.vec.FV().NumPy()
-            assert len(self._p_k) == 3 * len(per_triangle)     # 3 points per triangle
-            points = np.repeat(per_triangle, 3)
-            return blend(law.column.yield_stress(1.0), law.layer.yield_stress(1.0), points)
-        return law.yield_stress(1.0)
+        """kappa / [p]_+ = sqrt(2) mu (2.4): one number, or per point for a column over a
+        layer of another Drucker-Prager material (blended with the triangles' fractions)
+        or a hysteretic friction (blended with the triangles' mobilisation)."""
+        slope = _yield_slope(self.rheology)
+        if np.ndim(slope) == 0:
+            return slope
+        assert len(self._p_k) == 3 * len(slope)     # 3 points per triangle
+        return np.repeat(slope, 3)
 
     def _at_points(self, vec: ngs.BaseVector) -> tuple[np.ndarray, np.ndarray]:
         """(xx, xy, yy) of Du and p at the quadrature points, from a (u, p) vector."""
@@ -169,3 +169,15 @@ class DualVariable:
             out[:, k] = self._tmp.FV().NumPy()
         out /= self._w[:, None]
         return out[:, :3], out[:, 3]
+
+
+def _yield_slope(law: Rheology) -> float | np.ndarray:
+    """sqrt(2) mu of a Drucker-Prager law, or per triangle of a blended one."""
+    if isinstance(law, TwoMaterials):
+        return blend(_yield_slope(law.column), _yield_slope(law.layer),
+                     law.per_triangle.vec.FV().NumPy())
+    if isinstance(law, Hysteretic):
+        return blend(law.start.yield_stress(1.0), _yield_slope(law.flow),
+                     law.per_triangle.vec.FV().NumPy())
+    assert isinstance(law, DruckerPrager)
+    return law.yield_stress(1.0)        # type: ignore[no-any-return]

@@ -6,7 +6,8 @@ Point data: velocity (m/s), pressure (Pa). Cell data (means over each triangle):
 (m/s), strain_rate_norm (1/s), effective_viscosity (Pa s), the flowing flag (speed above
 1 mm/s), the stress stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder) and
 deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``); with a layer of
-its own material also layer_fraction (the share of layer material in each triangle).
+its own material also layer_fraction (the share of layer material in each triangle); with a
+hysteretic friction also mobilisation (the state s of ``physics/hysteresis.py``).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import FOLDER, VtkSeries
+from granflow.physics.hysteresis import mobilisation_cells
 from granflow.physics.regions import TwoMaterials
 
 
@@ -50,6 +52,9 @@ class FieldSnapshots:
         speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
         materials = ({"layer_fraction": solver.rheology.per_triangle.vec.FV().NumPy().copy()}
                      if isinstance(solver.rheology, TwoMaterials) else {})
+        state = mobilisation_cells(solver.rheology)
+        if state is not None:
+            materials["mobilisation"] = state.vec.FV().NumPy().copy()
         stress = {name: cell_means(mesh, cf)[0]
                   for name, cf in stress_components(solver).items()}
         kappa = cell_means(mesh, static_yield_stress(solver.rheology, solver.pressure))[0]

@@ -32,6 +32,7 @@ from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures, Table
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.scenarios.materials import layer_material
+from granflow.scenarios.mobilisation import MobilisationTracking
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
@@ -48,6 +49,7 @@ class ColumnCollapse:
     remesher: ColumnRemesher
     measures: ColumnMeasures
     layer: LayerTracking | None = None
+    mobilisation: MobilisationTracking | None = None   # a hysteretic friction's state
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -66,7 +68,10 @@ class ColumnCollapse:
         return self.measures.inertial
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
-        return self.measures.shape_measures(cell_speed)
+        out = self.measures.shape_measures(cell_speed)
+        if self.mobilisation is not None:
+            out["mobilised_fraction"] = self.mobilisation.mobilised_fraction()
+        return out
 
     def record(self, row: dict[str, float]) -> None:
         self.measures.record(row)
@@ -91,7 +96,8 @@ class ColumnCollapse:
         return {"mesh": self.mesh, "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), **self.measures.save_state(),
                 **self.remesher.save_state(),
-                **(self.layer.save_state() if self.layer is not None else {})}
+                **(self.layer.save_state() if self.layer is not None else {}),
+                **(self.mobilisation.save_state() if self.mobilisation is not None else {})}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
@@ -107,10 +113,14 @@ class ColumnCollapse:
         self.remesher.restore_state(state)
         if self.layer is not None:
             self.layer.sample()
+        if self.mobilisation is not None:
+            self.mobilisation.restore_state(state)
 
 
 def _inertial_numbers(law: object) -> InertialNumbers | None:
-    """mu(I) runs record their inertial numbers and the law's well-posed window."""
+    """mu(I) runs record their inertial numbers and the law's well-posed window (with a
+    hysteretic friction, those of its flow law)."""
+    law = getattr(law, "flow", law)
     if not isinstance(law, MuI):
         return None
     return InertialNumbers(well_posed=well_posed_window(law))
@@ -147,15 +157,19 @@ def build_column(config: Config) -> ColumnCollapse:
     measures = ColumnMeasures(config, current, remesher, simulation,
                               inertial=_inertial_numbers(current.solver.rheology), layer=layer)
     simulation.remesher = remesher
-    if layer is not None:
-        simulation.observers = [layer]     # first: the outputs read the moved layer
+    mobilisation = None
+    if current.mobilisation is not None:
+        mobilisation = remesher.mobilisation = MobilisationTracking(config, current, simulation)
+        mobilisation.start()
+    # first: the outputs read the moved layer and the advanced state
+    simulation.observers = [part for part in (layer, mobilisation) if part is not None]
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
     return ColumnCollapse(config=config, polygon=polygon, current=current,
                           simulation=simulation, remesher=remesher, measures=measures,
-                          layer=layer)
+                          layer=layer, mobilisation=mobilisation)
 
 
 def _hydrostatic(config: Config, g_z: float, heights: np.ndarray, z: np.ndarray) -> np.ndarray:

@@ -19,6 +19,7 @@ from granflow.fem.flow import Density, FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
+from granflow.fem.mobilisation import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, SURFACE, WALL
@@ -27,10 +28,10 @@ from granflow.physics import CoulombFriction, Rheology, gravity_vector
 from granflow.physics.regions import TwoMaterials, blend
 from granflow.scenarios.materials import (
     augmentation,
-    build_rheology,
     build_side_walls,
+    friction_law,
+    hysteretic,
     layer_material,
-    material_law,
 )
 
 
@@ -42,11 +43,13 @@ class ColumnDiscretisation:
     solver: FlowSolver
     mover: ColumnMover
     fraction: ngs.GridFunction | None = None   # two materials: layer share per triangle
+    mobilisation: MobilisationField | None = None   # a hysteretic friction's state
 
     def replace(self, other: ColumnDiscretisation) -> None:
-        """Take ``other``'s mesh, solver, mover and indicator (after a remesh or a restore)."""
+        """Take ``other``'s mesh, solver, mover, indicator and mobilisation (after a remesh
+        or a restore)."""
         self.mesh, self.solver, self.mover = other.mesh, other.solver, other.mover
-        self.fraction = other.fraction
+        self.fraction, self.mobilisation = other.fraction, other.mobilisation
 
     def set_fraction(self, layer: LayerMaterial | None) -> None:
         """The material indicator of the current mesh from the tracked layer region."""
@@ -115,7 +118,8 @@ def discretise(config: Config, mesh: ngs.Mesh,
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
     st = config.surface_tension
-    rheology, density, fraction = _materials(config, mesh)
+    mobilisation = MobilisationField(mesh) if hysteretic(config) else None
+    rheology, density, fraction = _materials(config, mesh, mobilisation)
     solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
@@ -140,22 +144,25 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction, tension=tension,
                         measure=polygon_measure(geo.axisymmetric))
-    out = ColumnDiscretisation(mesh, solver, mover, fraction)
+    out = ColumnDiscretisation(mesh, solver, mover, fraction, mobilisation)
     out.set_fraction(layer)
     return out
 
 
-def _materials(config: Config, mesh: ngs.Mesh) -> tuple[Rheology, Density,
-                                                         ngs.GridFunction | None]:
+def _materials(config: Config, mesh: ngs.Mesh, mobilisation: MobilisationField | None
+               ) -> tuple[Rheology, Density, ngs.GridFunction | None]:
     """One material: [material]'s law and density. A layer of its own: both blended with
     the indicator, a piecewise constant share of layer material per triangle, read on the
     walls from the adjacent triangle (a plain L2 function is 0 on a boundary element, which
-    would give the Coulomb walls' load under the layer the column's law)."""
+    would give the Coulomb walls' load under the layer the column's law). A hysteretic
+    friction reads the mobilisation field (``fem/mobilisation.py``)."""
+    eps = config.numerics.eps
+    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
     layer = layer_material(config)
     if layer is None:
-        return build_rheology(config), config.material.density, None
+        return friction_law(config.material, eps, *state), config.material.density, None
     per_triangle = ngs.GridFunction(ngs.L2(mesh, order=0))
     share = ngs.BoundaryFromVolumeCF(per_triangle)
-    law = TwoMaterials(build_rheology(config), material_law(layer, config.numerics.eps),
-                       share, per_triangle)
+    law = TwoMaterials(friction_law(config.material, eps, *state),
+                       friction_law(layer, eps, *state), share, per_triangle)
     return law, blend(config.material.density, layer.density, share), per_triangle

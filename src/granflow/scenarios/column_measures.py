@@ -85,7 +85,7 @@ class ColumnMeasures:
         """This step's I in the flowing cells (``diagnostics/inertial.py``)."""
         solver = self.current.solver
         shear_rate = math.sqrt(2.0) * solver.strain_rate_norm()
-        law = solver.rheology
+        law = getattr(solver.rheology, "flow", solver.rheology)   # a hysteretic friction's
         assert isinstance(law, MuI) and self.inertial is not None
         values, areas = cell_means(self.current.mesh,
                                    law.inertial_number(shear_rate, solver.pressure, NGSOLVE_OPS))

@@ -31,6 +31,7 @@ from granflow.scenarios.column_discretisation import (
     layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
+from granflow.scenarios.mobilisation import MobilisationTracking
 from granflow.simulation.simulation import Simulation
 
 
@@ -47,6 +48,7 @@ class ColumnRemesher:
     restored: list[float] = field(default_factory=list)   # area its simplification lost
     unrecorded_change: float = 0.0   # area change of the remeshes since the last diagnostics row
     layer: LayerTracking | None = None   # an erodible layer's tracked material
+    mobilisation: MobilisationTracking | None = None   # a hysteretic friction's state
     lengthenings: int = 0          # times the meshed layer was lengthened (mesh.layer_ahead)
     added: float = 0.0             # the layer area (r-z: volume) they added
 
@@ -106,6 +108,8 @@ class ColumnRemesher:
             new.mover.initial_area += added
             self.lengthenings += 1
             self.added += added
+        if self.mobilisation is not None:
+            self.mobilisation.carry(new, old.mover.end_x)
         self.current.replace(new)
         self.simulation.replace(new.solver, new.mover)
         self.remeshes += 1

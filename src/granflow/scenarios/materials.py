@@ -2,14 +2,46 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from granflow.config import Config
 from granflow.config.schema import Material
 from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
+from granflow.physics.hysteresis import Hysteretic, Relaxation
 
 
 def build_rheology(config: Config) -> Rheology:
     """``material.rheology``: the regularised Drucker-Prager law (2.13) or mu(I)."""
     return material_law(config.material, config.numerics.eps)
+
+
+def hysteretic(config: Config) -> bool:
+    """Whether a material of the run has a hysteretic friction (and so a mobilisation
+    state, ``physics/hysteresis.py``)."""
+    layer = layer_material(config)
+    return config.material.friction == "hysteretic" or (
+        layer is not None and layer.friction == "hysteretic")
+
+
+def relaxation(mat: Material) -> Relaxation:
+    """The relaxation of a material's mobilisation (its hysteretic-friction keys)."""
+    return Relaxation(mobilisation_time=mat.mobilisation_time, rest_time=mat.rest_time,
+                      shear_rate=mat.mobilisation_shear_rate)
+
+
+def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
+                 per_triangle: Any = None) -> Rheology:
+    """The law of one material with its friction: ``material_law``, or with a hysteretic
+    friction that law as mu_flow beside Drucker-Prager at mu_start, blended with the
+    mobilisation s (``mobilisation``: its field; ``per_triangle``: its cell values)."""
+    flow = material_law(mat, eps)
+    if mat.friction != "hysteretic":
+        return flow
+    start = DruckerPrager(viscosity=mat.viscosity,
+                          friction_angle_deg=mat.start_friction_angle_deg, eps=eps)
+    return Hysteretic(flow=flow, start=start, relaxation=relaxation(mat),
+                      mobilisation=mobilisation, per_triangle=per_triangle,
+                      initial=mat.initial_mobilisation)
 
 
 def material_law(mat: Material, eps: float) -> Rheology:

@@ -15,11 +15,13 @@ from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
+from granflow.fem.mobilisation import MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import MuI, gravity_vector
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
-from granflow.scenarios.materials import augmentation, build_rheology
+from granflow.scenarios.materials import augmentation, build_rheology, friction_law
+from granflow.scenarios.mobilisation import MobilisationTracking
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
 
@@ -33,6 +35,8 @@ class PlugFlow:
     solver: FlowSolver
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
+    mobilisation: MobilisationField | None = None     # a hysteretic friction's state
+    tracking: MobilisationTracking | None = None      # ... and its observer
 
     @property
     def steep(self) -> bool:
@@ -43,8 +47,14 @@ class PlugFlow:
         """Why no reference applies, or None. Below its friction angle a Drucker-Prager
         layer has the 1D solution of (4.1); steeper, the steady profile it tends to
         (reference/incline.py); a mu(I) layer has the steady profile when
-        mu_s < tan(slope) < mu_2 and nothing else (the 1D solver is for Drucker-Prager)."""
+        mu_s < tan(slope) < mu_2 and nothing else (the 1D solver is for Drucker-Prager).
+        With a hysteretic friction the steady profile is the flowing law's (a layer that
+        keeps flowing tends to it: mobilised, mu = mu_flow), the 1D solver none."""
         mat, slope = self.config.material, self.config.geometry.slope_deg
+        if mat.friction == "hysteretic" and not self.steep:
+            return ("no reference: the 1D solver of (4.1) has a constant friction, and "
+                    f"geometry.slope_deg = {slope:g} <= material.friction_angle_deg = "
+                    f"{mat.friction_angle_deg:g}")
         if mat.rheology != "mu-i":
             return None
         if not self.steep:
@@ -113,14 +123,19 @@ class PlugFlow:
         """The flow history and the vertex positions (the vertical mesh motion moves them;
         the periodic mesh's topology never changes)."""
         return {"fields": self.solver.save_history(),
-                "coordinates": self.mesh.ngmesh.Coordinates().copy()}
+                "coordinates": self.mesh.ngmesh.Coordinates().copy(),
+                **(self.tracking.save_state() if self.tracking is not None else {})}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         self.mesh.ngmesh.Coordinates()[:] = state["coordinates"]
         self.solver.restore_history(state["fields"])
+        if self.tracking is not None:
+            self.tracking.restore_state(state)
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
-        return {}
+        if self.tracking is None:
+            return {}
+        return {"mobilised_fraction": self.tracking.mobilised_fraction()}
 
     def record(self, row: dict[str, float]) -> None:
         pass
@@ -156,7 +171,10 @@ def build_plug_flow(config: Config) -> PlugFlow:
     geo, mat = config.geometry, config.material
     mesh = periodic_layer_mesh(geo.length, geo.height, config.mesh.size, config.mesh.cells_x)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
+    mobilisation = MobilisationField(mesh) if mat.friction == "hysteretic" else None
+    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
+    solver = FlowSolver(mesh, rheology=friction_law(mat, config.numerics.eps, *state),
+                        density=mat.density,
                         body_force=force, periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
                         linear_solver=direct_solver(config.numerics.linear_solver),
@@ -181,4 +199,10 @@ def build_plug_flow(config: Config) -> PlugFlow:
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations, mesh_motion=motion,
                             velocity_floor=config.numerics.velocity_floor)
-    return PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)
+    problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation,
+                       mobilisation=mobilisation)
+    if mobilisation is not None:
+        problem.tracking = MobilisationTracking(config, problem, simulation)
+        problem.tracking.start()
+        simulation.observers = [problem.tracking]
+    return problem
