@@ -22,7 +22,8 @@ from granflow.ale.free_surface import (
     segments_intersect,
 )
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh
+from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL, polygon_mesh
+from granflow.geometry.profile import CORNER_DEG, BedProfile
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
@@ -76,11 +77,13 @@ class Remeshed:
 
 def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
            measure: PolygonMeasure = AREA, layer_end: float | None = None,
-           layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC) -> Remeshed:
+           layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC,
+           bed: BedProfile | None = None) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
-    which Netgen splits at ``size``), and so are free-surface vertices where the surface
+    which Netgen splits at ``size``); the corners of the bed profile ``bed`` under a bed
+    edge are inserted and kept (``with_bed_corners``); free-surface vertices where the surface
     turns by less than ``STRAIGHT_DEG``: three such vertices would otherwise make a flat
     triangle with two boundary edges, which inverts as the surface straightens. Surface
     vertices bunched closer than ``MIN_SURFACE_EDGE * size`` are merged: (3.7) lets nodes
@@ -99,8 +102,9 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
     area = measure.size(xy[loop], _ring(len(loop)))
-    keep = kept_boundary_vertices(xy[loop], labels, MIN_SURFACE_EDGE * size)
-    points = [tuple(xy[loop[i]]) for i in keep]
+    loop_xy, labels = with_bed_corners(xy[loop], labels, bed)
+    keep = kept_boundary_vertices(loop_xy, labels, MIN_SURFACE_EDGE * size)
+    points = [tuple(loop_xy[i]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
     points, edge_labels = close_folds(points, edge_labels)
     n = len(points)
@@ -140,6 +144,45 @@ def lengthen_layer(points: list[tuple[float, float]], labels: list[str], end_x: 
         return points, labels
     return ([*points[:i], (end_x, 0.0), (end_x, top), *points[i + 1:]],
             [*labels[:i], END, SURFACE, *labels[i + 1:]])
+
+
+def with_bed_corners(pts: np.ndarray, labels: list[str], bed: BedProfile | None
+                     ) -> tuple[np.ndarray, list[str]]:
+    """The boundary loop with the bed profile's corners inserted into the bed edges that
+    pass over them (a node that slid through a corner left a chord across it)."""
+    if bed is None or not len(bed.corners()):
+        return pts, labels
+    corners = bed.corners()
+    out, out_labels = [], []
+    n = len(pts)
+    for i in range(n):
+        p, q = pts[i], pts[(i + 1) % n]
+        out.append(p)
+        out_labels.append(labels[i])
+        if labels[i] == BED:
+            lo, hi = min(p[0], q[0]), max(p[0], q[0])
+            inner = corners[(corners[:, 0] > lo) & (corners[:, 0] < hi)]
+            inner = inner[np.argsort(inner[:, 0] * np.sign(q[0] - p[0]))]
+            out.extend(inner)
+            out_labels.extend([BED] * len(inner))
+    return np.array(out), out_labels
+
+
+def straddled_corners(pts: np.ndarray, bed: BedProfile, tol: float) -> int:
+    """How many bed edges (``pts`` (k, 2, 2): their ends) pass over a corner of the bed
+    profile more than ``tol`` away from it (the corner should be a vertex)."""
+    corners = bed.corners()
+    if not len(corners) or not len(pts):
+        return 0
+    lo, hi = pts[:, :, 0].min(axis=1), pts[:, :, 0].max(axis=1)
+    count = 0
+    for c in corners:
+        over = (lo < c[0]) & (hi > c[0])
+        for p, q in pts[over]:
+            s = (c[0] - p[0]) / (q[0] - p[0])
+            if abs(p[1] + s * (q[1] - p[1]) - c[1]) > tol:
+                count += 1
+    return count
 
 
 def _ring(n: int) -> np.ndarray:
@@ -206,7 +249,9 @@ def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) 
     keep: list[int] = []
     dropped_previous = False
     for i in range(len(pts)):
-        straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL, END)
+        straight_run = labels[i - 1] == labels[i] and (
+            labels[i] in (WALL, END, GATE)
+            or (labels[i] == BED and turn[i] < CORNER_DEG))   # a bed profile's corner stays
         inner_surface = labels[i - 1] == labels[i] == SURFACE
         flat = inner_surface and turn[i] < STRAIGHT_DEG
         close = inner_surface and bool(keep) and (

@@ -1,5 +1,5 @@
-"""Meshes of the built-in domains (labels: ``bed``, ``wall``, ``surface``, and ``end``, the
-far end of an erodible layer)."""
+"""Meshes of the domains (labels, ``geometry/labels.py``: ``bed``, ``wall``, ``surface``,
+``end``, the far end of an erodible layer, and ``gate``)."""
 
 from __future__ import annotations
 
@@ -12,11 +12,11 @@ from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
+from granflow.geometry.labels import BED, END, GATE, INTERIOR, LABELS, SURFACE, WALL
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
-BED, WALL, SURFACE, END = "bed", "wall", "surface", "end"
-LABELS = (BED, WALL, SURFACE, END)
-INTERIOR = "interior"   # a line inside the domain the mesh follows (not a boundary)
+__all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
+           "periodic_layer_mesh", "polygon_mesh", "signed_areas"]
 
 
 def periodic_layer_mesh(length: float, height: float, size: float,
