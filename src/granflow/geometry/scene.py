@@ -44,6 +44,26 @@ class Scene:
     end: Line | None = None          # the layer's far end (normal to the bed there)
     gate: Gate | None = None
     default_bed: bool = True         # the level bed z = 0 from x = 0 (no profile given)
+    # a built-in shape on the profile's first segment: the domain in that segment's frame
+    # (origin, tangent, normal), where it is meshed, and the frame's polygon
+    frame: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    local: Polygon | None = None
+
+    def to_lab(self, local: np.ndarray) -> np.ndarray:
+        """Frame coordinates (along, across the first segment) to (x, z)."""
+        if self.frame is None:
+            return np.array(local, dtype=float)
+        o, t, n = self.frame
+        pts = np.asarray(local, dtype=float).reshape(-1, 2)
+        return o + pts[:, :1] * t + pts[:, 1:] * n
+
+    def to_local(self, xy: np.ndarray) -> np.ndarray:
+        """(x, z) to frame coordinates."""
+        if self.frame is None:
+            return np.array(xy, dtype=float)
+        o, t, n = self.frame
+        rel = np.asarray(xy, dtype=float).reshape(-1, 2) - o
+        return np.column_stack([rel @ t, rel @ n])
 
     @property
     def size(self) -> float:
@@ -154,9 +174,10 @@ def build_scene(geo: Any, gate: Any, layer_end: float | None = None,
     if gate.enabled and he > 0:
         raise GeometryError("gate.enabled = true needs a rigid bed "
                             "(geometry.erodible_thickness = 0)")
-    if default and ring is None:
-        end = geo.bed_length if layer_end is None else layer_end
-        return _builtin_scene(geo, gate, bed, wall, end, interface)
+    end = geo.bed_length if layer_end is None else layer_end
+    first = float(bed.arc_length(bed.points[1, 0])[0])
+    if ring is None and (default or he <= 0 or end <= first):
+        return _builtin_scene(geo, gate, bed, wall, end, interface, default)
     key = "geometry.mass" if geo.mass_file is None else "geometry.mass_file"
     if ring is None:
         ring, key = _builtin_on_profile(geo, bed), "geometry.width"
@@ -202,26 +223,35 @@ def _axisymmetric_bed(bed: BedProfile, geo: Any) -> None:
 
 
 def _builtin_scene(geo: Any, gate: Any, bed: BedProfile, wall: Line | None,
-                   layer_end: float, interface: bool) -> Scene:
-    """The paper's domains (Figure 6) on the level bed z = 0, as ``column`` builds them."""
+                   layer_end: float, interface: bool, default: bool) -> Scene:
+    """The paper's domains (Figure 6), as ``column`` builds them: on the level bed z = 0,
+    or in the frame of the profile's first segment (which holds the whole domain)."""
     he = geo.erodible_thickness
-    polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg, he,
-                     layer_end, interface=interface and he > 0)
-    mass = np.asarray(column(geo.shape, geo.width, geo.height, geo.front_angle_deg).points)
-    labels = list(polygon.labels)
+    local = column(geo.shape, geo.width, geo.height, geo.front_angle_deg, he,
+                   layer_end, interface=interface and he > 0)
+    frame = None if default else (bed.points[0], bed.tangent(0), bed.normal(0))
+    scene = Scene(bed, wall, local, np.zeros((0, 2)), frame=frame)
+    if not default:
+        _builtin_on_profile(geo, bed)          # the column's base on the first segment
+    mass = scene.to_lab(np.asarray(column(geo.shape, geo.width, geo.height,
+                                          geo.front_angle_deg).points))
+    points = scene.to_lab(np.asarray(local.points))
+    labels = list(local.labels)
     if not geo.left_wall:
         labels = [SURFACE if lab == WALL else lab for lab in labels]
     the_gate = None
     if gate.enabled:
-        the_gate = _gate(np.asarray(polygon.points), labels, bed, gate, "geometry.shape")
+        the_gate = _gate(points, labels, bed, gate, "geometry.shape")
         labels[1] = GATE                     # the front face (bed, face, top, wall)
     end = None
     if he > 0:
-        x_end = polygon.points[1][0]
-        end = Line.through(np.array([x_end, 0.0]), np.array([0.0, 1.0]),
-                           np.array([0.0, 0.0]))
-    return Scene(bed, wall, Polygon(polygon.points, tuple(labels), polygon.interior), mass,
-                 he, layer_end, end, the_gate, True)
+        foot = scene.to_lab(np.array([[local.points[1][0], 0.0]]))[0]
+        end = Line.through(foot, bed.normal(0), bed.points[0])
+    labelled = Polygon(local.points, tuple(labels), local.interior)
+    lab = labelled if default else Polygon(tuple(map(tuple, points)), tuple(labels),
+                                           local.interior)
+    return Scene(bed, wall, lab, mass, he, layer_end, end, the_gate, default, frame,
+                 labelled)
 
 
 def _builtin_on_profile(geo: Any, bed: BedProfile) -> np.ndarray:

@@ -131,22 +131,32 @@ def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     geo, mat = config.geometry, config.material
     scene = column_scene(config)
-    polygon = scene.polygon
+    polygon = scene.local or scene.polygon      # a built-in shape: meshed in its frame
     fine = layer_cell_size(config) if geo.erodible_thickness > 0 else config.mesh.size
+    sizes = layer_edge_sizes(config)
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
-                        boundary_edge_sizes(polygon.points, layer_edge_sizes(config)),
+                        boundary_edge_sizes(scene.to_lab(np.asarray(polygon.points)), sizes),
                         interior=[(i, j, fine) for i, j in polygon.interior],
                         stretch=layer_stretch(config))
+    xy = mesh.ngmesh.Coordinates()
+    local = xy.copy()
+    if scene.frame is not None:                 # and turned onto the bed profile
+        xy[:] = scene.to_lab(local)
     current = discretise(config, mesh)
     layer = LayerTracking.start(config, current) if geo.erodible_thickness > 0 else None
     if layer is not None:
         current.set_fraction(layer.material)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    xy = mesh.ngmesh.Coordinates()
-    heights = np.array([polygon.surface_height(x) for x in xy[:, 0]])
+    if scene.local is not None:     # depths across the bed, in the shape's frame
+        g_n = force[1] if scene.frame is None else float(np.dot(force, scene.frame[2]))
+        heights = np.array([polygon.surface_height(x) for x in local[:, 0]])
+        top = None
+    else:                           # a user's mass: vertical depths
+        g_n, heights = force[1], np.array([polygon.surface_height(x) for x in xy[:, 0]])
+        local = xy
+        top = scene.layer_top if scene.layer > 0 else None
     pressure = ngs.GridFunction(ngs.H1(mesh, order=1))
-    pressure.vec.FV().NumPy()[:] = _hydrostatic(config, force[1], heights, xy,
-                                                scene.layer_top if scene.layer > 0 else None)
+    pressure.vec.FV().NumPy()[:] = _hydrostatic(config, g_n, heights, local, top)
     current.solver.set_state(ngs.CF((0.0, 0.0)), pressure)          # at rest, hydrostatic
     simulation = Simulation(solver=current.solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end,
@@ -167,7 +177,7 @@ def build_column(config: Config) -> ColumnCollapse:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
-    return ColumnCollapse(config=config, polygon=polygon, current=current,
+    return ColumnCollapse(config=config, polygon=scene.polygon, current=current,
                           simulation=simulation, remesher=remesher, measures=measures,
                           layer=layer, mobilisation=mobilisation)
 
