@@ -49,6 +49,7 @@ from granflow.geometry.labels import BED, END, GATE, SURFACE, WALL
 from granflow.geometry.profile import Line
 
 CROSS = 1e-12   # m: a node this far beyond the bed or a wall has crossed it
+STRADDLE = 1e-5   # a bed edge this far (x the bed's extent) from a corner it spans: remesh
 
 
 class ColumnMover(AleMover):
@@ -129,6 +130,21 @@ class ColumnMover(AleMover):
     def _prepare_w(self, dt: float) -> None:
         super().prepare(dt)
         self._pin_contact_points(dt)
+        self._hold_bed_corners()
+
+    def _hold_bed_corners(self) -> None:
+        """A bed node at a corner of the bed profile stays there: w.N = u.N = 0 on both
+        segments (3.6) is w = 0 (the discrete u.N, imposed by a penalty, is not quite 0 and
+        would let it slide off). A contact point there still moves with the material."""
+        corners = self.support.bed.corners()
+        if not len(corners):
+            return
+        assert self.w_vertices is not None
+        xy = self.mesh.ngmesh.Coordinates()
+        bed = np.setdiff1d(self.chain.vertices(BED), self.chain.vertices(SURFACE))
+        d = np.hypot(*(xy[bed][:, None, :] - corners[None]).transpose(2, 0, 1)).min(axis=1)
+        scale = float(np.ptp(self.support.bed.points, axis=0).max())
+        self.w_vertices[bed[d <= 1e-9 * scale]] = 0.0
 
     def _pin_contact_points(self, dt: float) -> None:
         """Where the surface meets the bed or the wall, w = u (pure Lagrangian, section 3.2).
@@ -221,6 +237,8 @@ class ColumnMover(AleMover):
         """Gate edges whose middle the gate's lower end has passed become free surface
         (their end on the gate a contact point): the opening is resolved to half an edge."""
         assert self.gate is not None
+        if GATE not in self.chain.index:       # the gate has cleared the mass
+            return 0
         e1 = self.mesh.ngmesh.Elements1D().NumPy()
         on_gate = np.flatnonzero(e1["index"] == self.chain.index[GATE])
         if not on_gate.size:
@@ -239,9 +257,11 @@ class ColumnMover(AleMover):
             return False
         e1 = self.mesh.ngmesh.Elements1D().NumPy()
         on_bed = e1["index"] == self.chain.index[BED]
-        ends = self.mesh.ngmesh.Coordinates()[e1["nodes"][on_bed, :2].astype(np.int64) - 1]
+        nodes = e1["nodes"][on_bed, :2].astype(np.int64) - 1
+        held = ~np.isin(nodes, self.chain.vertices(SURFACE))
         scale = float(np.ptp(bed.points, axis=0).max())
-        return straddled_corners(ends, bed, 1e-8 * scale) > 0
+        ends = self.mesh.ngmesh.Coordinates()[nodes]
+        return straddled_corners(ends, held, bed, STRADDLE * scale) > 0
 
     def area(self) -> float:
         """The conserved measure now: the area (m^2 per metre), or the revolved volume (m^3)."""

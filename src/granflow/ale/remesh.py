@@ -29,6 +29,7 @@ from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
 FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
+SNAP_CORNER = 0.2  # a bed vertex this close (x its edge) to a bed corner it passed is put on it
 
 
 def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarray:
@@ -153,6 +154,7 @@ def with_bed_corners(pts: np.ndarray, labels: list[str], bed: BedProfile | None
     if bed is None or not len(bed.corners()):
         return pts, labels
     corners = bed.corners()
+    pts = pts.copy()
     out, out_labels = [], []
     n = len(pts)
     for i in range(n):
@@ -163,24 +165,43 @@ def with_bed_corners(pts: np.ndarray, labels: list[str], bed: BedProfile | None
             lo, hi = min(p[0], q[0]), max(p[0], q[0])
             inner = corners[(corners[:, 0] > lo) & (corners[:, 0] < hi)]
             inner = inner[np.argsort(inner[:, 0] * np.sign(q[0] - p[0]))]
-            out.extend(inner)
-            out_labels.extend([BED] * len(inner))
+            near = SNAP_CORNER * np.hypot(*(q - p))
+            p_held, q_held = labels[i - 1] == BED, labels[(i + 1) % n] == BED
+            for c in inner:     # a bed node that has only just slid past: back onto it
+                if np.hypot(*(c - p)) < near:
+                    if p_held:
+                        out[-1] = p = c
+                elif np.hypot(*(c - q)) < near:
+                    if q_held:
+                        pts[(i + 1) % n] = q = c
+                else:           # (a contact point just past it: later, once further)
+                    out.append(c)
+                    out_labels.append(BED)
+    if not np.array_equal(out[0], pts[0]):   # the first vertex moved as the last edge's end
+        out[0] = pts[0]
     return np.array(out), out_labels
 
 
-def straddled_corners(pts: np.ndarray, bed: BedProfile, tol: float) -> int:
-    """How many bed edges (``pts`` (k, 2, 2): their ends) pass over a corner of the bed
-    profile more than ``tol`` away from it (the corner should be a vertex)."""
+def straddled_corners(pts: np.ndarray, held: np.ndarray, bed: BedProfile, tol: float) -> int:
+    """How many bed edges (``pts`` (k, 2, 2): their ends; ``held`` (k, 2): whether each end
+    is a bed node, not a contact point) pass over a corner of the bed profile more than
+    ``tol`` away from it, where a remesh would put a vertex on the corner (``with_bed_corners``:
+    not while a contact point is within SNAP_CORNER of an edge from it)."""
     corners = bed.corners()
     if not len(corners) or not len(pts):
         return 0
     lo, hi = pts[:, :, 0].min(axis=1), pts[:, :, 0].max(axis=1)
     count = 0
     for c in corners:
-        over = (lo < c[0]) & (hi > c[0])
-        for p, q in pts[over]:
+        over = np.flatnonzero((lo < c[0]) & (hi > c[0]))
+        for k in over:
+            p, q = pts[k]
             s = (c[0] - p[0]) / (q[0] - p[0])
-            if abs(p[1] + s * (q[1] - p[1]) - c[1]) > tol:
+            if abs(p[1] + s * (q[1] - p[1]) - c[1]) <= tol:
+                continue
+            near = SNAP_CORNER * np.hypot(*(q - p))
+            close = np.hypot(*(pts[k] - c).T) < near
+            if not np.any(close & ~held[k]):
                 count += 1
     return count
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 CORNER_DEG = 1e-6   # the bed turns by more than this at a corner (degrees)
+REACHED = 1e-12     # m: a node this close below a segment's line is on it (it lands now)
 
 
 @dataclass(frozen=True)
@@ -212,8 +213,8 @@ class BedProfile:
         n, t = self._normal[None], self._tangent[None]
         h = rel[..., 0] * n[..., 0] + rel[..., 1] * n[..., 1]
         v = w[:, None, 0] * n[..., 0] + w[:, None, 1] * n[..., 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            time = np.where(v < 0, h / -v, np.inf)
+        with np.errstate(divide="ignore", invalid="ignore"):   # (below a segment's line:
+            time = np.where((v < 0) & (h >= -REACHED), np.maximum(h, 0.0) / -v, np.inf)
         hit = rel + np.where(np.isfinite(time), time, 0.0)[..., None] * w[:, None, :]
         s = hit[..., 0] * t[..., 0] + hit[..., 1] * t[..., 1]
         slack = 1e-9 * self._length

@@ -14,6 +14,7 @@ the key and what is wrong, raised before anything is computed.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -144,6 +145,9 @@ def mass_ring(geo: Any) -> np.ndarray | None:
     polygon = shapely.Polygon(ring)
     if not polygon.is_valid:
         reason = shapely.is_valid_reason(polygon)
+        where = re.match(r"(.*)\[(\S+) (\S+)\]", reason)
+        if where:
+            reason = f"{where[1]} at ({float(where[2]):g}, {float(where[3]):g})"
         raise GeometryError(f"{key} is not a simple polygon: {reason.lower()} (its edges "
                             "must not cross or touch)")
     if polygon.area <= 0:
@@ -192,7 +196,7 @@ def build_scene(geo: Any, gate: Any, layer_end: float | None = None,
     if the_gate is not None:
         labels = _gate_labels(points, labels, the_gate, scale)
     if he <= 0:
-        return Scene(bed, wall, Polygon(tuple(map(tuple, points)), tuple(labels)), ring,
+        return Scene(bed, wall, Polygon(_points(points), tuple(labels)), ring,
                      gate=the_gate, default_bed=default)
     return _with_layer(bed, wall, ring, he, geo.bed_length if layer_end is None else layer_end,
                        scale, default)
@@ -203,6 +207,10 @@ def _read(key: str, path: str, kind: str) -> np.ndarray:
         return read_points(path, kind)
     except GeometryError as err:
         raise GeometryError(f"{key}: {err}") from None
+
+
+def _points(points: np.ndarray) -> tuple[tuple[float, float], ...]:
+    return tuple((float(x), float(z)) for x, z in points)
 
 
 def _pt(p: np.ndarray) -> str:
@@ -248,7 +256,7 @@ def _builtin_scene(geo: Any, gate: Any, bed: BedProfile, wall: Line | None,
         foot = scene.to_lab(np.array([[local.points[1][0], 0.0]]))[0]
         end = Line.through(foot, bed.normal(0), bed.points[0])
     labelled = Polygon(local.points, tuple(labels), local.interior)
-    lab = labelled if default else Polygon(tuple(map(tuple, points)), tuple(labels),
+    lab = labelled if default else Polygon(_points(points), tuple(labels),
                                            local.interior)
     return Scene(bed, wall, lab, mass, he, layer_end, end, the_gate, default, frame,
                  labelled)
@@ -348,13 +356,13 @@ def _gate(points: np.ndarray, labels: list[str], bed: BedProfile, gate: Any,
     foot, top = points[i], points[(i + 1) % n]
     face = top - foot
     k = int(bed.segment_of(np.array([foot[0] - 1e-12]))[0])
-    cos = float(np.dot(face, bed.tangent(k)) / np.hypot(*face))
+    cos = float(np.dot(face, -bed.tangent(k)) / np.hypot(*face))   # the mass's angle there
     angle = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
-    if angle < GATE_MIN_DEG:
+    if not GATE_MIN_DEG <= angle <= 180 - GATE_MIN_DEG:
         raise GeometryError(
-            f"gate.enabled = true: the mass's front face ({key}) rises at {angle:.3g} "
-            f"degrees from the bed; a gate needs a face at least {GATE_MIN_DEG:g} degrees "
-            "steep (a rectangle, or a trapezoid's front)")
+            f"gate.enabled = true: the mass's front face ({key}) makes {angle:.3g} degrees "
+            f"with the bed; a gate needs a face at least {GATE_MIN_DEG:g} degrees steep "
+            "(a rectangle, or a trapezoid's front)")
     inside = points.mean(axis=0)
     line = Line.through(foot, face, inside)
     law = GateLaw(gate.speed_law, gate.speed, gate.tau)
@@ -400,5 +408,5 @@ def _with_layer(bed: BedProfile, wall: Line | None, ring: np.ndarray, he: float,
     pts = np.roll(pts, -start, axis=0)
     end = Line.through(end_point[0], bed.normal(int(k[0])), bed.points[0])
     points, labels = _labelled(pts, bed, wall, end, scale)
-    return Scene(bed, wall, Polygon(tuple(map(tuple, points)), tuple(labels)), ring, he,
+    return Scene(bed, wall, Polygon(_points(points), tuple(labels)), ring, he,
                  length, end, None, default)
