@@ -99,6 +99,11 @@ BAD = {
                           "geometry.slope_deg = 10.0 with a bed profile"),
     "two masses": ([f"geometry.mass={SLAB}", "geometry.mass_file=x.csv"],
                    "geometry.mass and geometry.mass_file both give the mass"),
+    "axisymmetric on a slope": (["geometry.axisymmetric=true", f"geometry.bed_profile={HILL}",
+                                 "numerics.linearization=picard"],
+                                "geometry.axisymmetric = true with a bed profile needs"),
+    "width and mass": ([f"geometry.mass={TRAPEZOID}", "geometry.width=0.5"],
+                       "geometry.width = 0.5 and the mass polygon both set the mass's width"),
     "shallow gate face": (["gate.enabled=true", "geometry.front_angle_deg=40",
                            "geometry.width=0.5"], "a gate needs a face at least 45 degrees"),
 }
@@ -131,3 +136,11 @@ def test_a_geojson_that_is_not_a_polygon_is_one_line(tmp_path: Path, text: str) 
     with pytest.raises(ConfigError) as err:
         load_config("trapezoid-rigid", [f"geometry.mass_file={path}"])
     assert str(err.value).startswith("geometry.mass_file: ")
+
+
+def test_a_resolved_geometry_reloads(tmp_path: Path) -> None:
+    """The hillslope's resolved configuration (its profile, its mass and the width and
+    height the mass sets) saved as TOML and loaded back is the same configuration."""
+    config = load_config("hillslope")
+    again = load_config(config.save(tmp_path / "config.toml"))
+    assert again.geometry == config.geometry

@@ -40,12 +40,6 @@ def absolute_paths(data: dict[str, Any]) -> None:
             geometry[key] = str(Path(value).expanduser().resolve())
 
 
-def user_geometry(c: Config) -> bool:
-    """A bed profile or a mass polygon is given (not the paper's level bed and shapes)."""
-    g = c.geometry
-    return any(v is not None for v in (g.bed_profile, g.bed_profile_file, g.mass, g.mass_file))
-
-
 def scene(c: Config) -> Scene:
     """The column's scene (raises ``GeometryError``)."""
     return build_scene(c.geometry, c.gate)
@@ -73,18 +67,9 @@ def geometry_problems(c: Config) -> Iterator[str]:
         yield ("gate.enabled = true needs numerics.method = 'regularized' (the gate's moving "
                "friction is a term of (3.2))")
     try:
-        setup = scene(c)
+        scene(c)
     except GeometryError as err:
         yield str(err)
-        return
-    if user_geometry(c):
-        side = min(g.width, g.height)
-        if c.mesh.size > side:
-            yield (f"mesh.size = {c.mesh.size!r} must not exceed the mass's smaller extent, "
-                   f"{side:.4g} m")
-    if setup.gate is not None and c.gate.speed_law == "exponential" and c.gate.tau > 10:
-        yield (f"gate.tau = {c.gate.tau!r} s: a gate this slow holds the mass for longer than "
-               "any collapse lasts (at most 10 s)")
 
 
 def geometry_inert_keys(c: Config) -> dict[str, str]:
