@@ -5,8 +5,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from PIL import Image
+
+from granflow.config import load_config
+from granflow.geometry.scene import build_scene
 
 SHORT = {
     "plug-flow": ["mesh.size=0.5", "time.dt=0.05", "time.t_end=0.1", "time.output_times=[0.1]",
@@ -19,6 +23,8 @@ SHORT = {
                            "time.t_end=0.005", "time.output_times=[]"],
     "incline-mu-i": ["mesh.size=0.0025", "time.dt=0.01", "time.t_end=0.05",
                      "time.output_times=[0.05]"],
+    "incline-to-floor": ["mesh.size=0.04", "time.t_end=0.01", "time.output_times=[0.01]"],
+    "hillslope": ["mesh.size=0.08", "time.t_end=0.01", "time.output_times=[0.01]"],
 }
 
 
@@ -56,6 +62,14 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
         with Image.open(out / "plots" / "speed.gif") as gif:   # one image per frame file
             frames = len(list((out / "frames").glob("frame_*.npz")))  # (Pillow merges repeats)
             assert 1 < gif.n_frames <= frames
+    elif scenario in ("incline-to-floor", "hillslope"):     # a mass on a bed profile
+        assert summary["volume_relative_error"] < 1e-10
+        config = load_config(out / "config.toml")
+        bed = build_scene(config.geometry, config.gate).bed
+        surface = np.loadtxt(out / "profiles" / "free_surface_t0.010.csv", delimiter=",",
+                             skiprows=1, usecols=(0, 1))
+        assert bed.height(surface).min() > -1e-9           # on or above the bed
+        assert (out / "plots" / "free_surface.png").exists()
     # the last accepted state as profiles/*_final.csv, whatever the output times
     assert summary["final_profiles_t"] == summary["t_final"]
     finals = sorted(p.name for p in (out / "profiles").glob("*_final.csv"))

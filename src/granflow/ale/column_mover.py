@@ -6,9 +6,12 @@ loop on a typed ``MoveFailure``).
 
 Section 3.3: the step is limited so that no boundary node crosses the bed or the wall; a
 surface node that reaches the bed becomes a bed node and its edges change boundary
-condition (Figure 2). Nodes on the bed and walls (and on the far end of an erodible layer)
-are kept exactly on them. After each move the numerical surface tension of section 3.4
-(``ale/surface_tension.py``), when present, is set on the moved surface.
+condition (Figure 2). Nodes on the bed and walls (and on the far end of an erodible layer,
+and on a gate) are kept exactly on them: a bed node is put back on the nearest point of
+the bed profile, so that it slides along the bed and through its corners. After each move
+the numerical surface tension of section 3.4 (``ale/surface_tension.py``), when present,
+is set on the moved surface. A gate's lower end rises with time; its edges below it become
+free surface (``geometry/gate.py``).
 """
 
 from __future__ import annotations
@@ -19,6 +22,8 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.deposition import (
+    LEVEL,
+    Support,
     limit_step,
     relabel_deposited,
     snap_landed,
@@ -36,9 +41,15 @@ from granflow.ale.mesh_motion import (
     MoveFailure,
     VelocityHistory,
 )
+from granflow.ale.remesh import straddled_corners
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, END, SURFACE, WALL
+from granflow.geometry.gate import Gate
+from granflow.geometry.labels import BED, END, GATE, SURFACE, WALL
+from granflow.geometry.profile import Line
+
+CROSS = 1e-12   # m: a node this far beyond the bed or a wall has crossed it
+STRADDLE = 1e-5   # a bed edge this far (x the bed's extent) from a corner it spans: remesh
 
 
 class ColumnMover(AleMover):
@@ -48,12 +59,18 @@ class ColumnMover(AleMover):
                  source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,
                  extrapolate: bool = False, conserve_volume: bool = True,
                  tension: SurfaceTension | None = None,
-                 measure: PolygonMeasure = AREA) -> None:
+                 measure: PolygonMeasure = AREA, support: Support = LEVEL,
+                 gate: Gate | None = None, gate_speed: ngs.Parameter | None = None) -> None:
         super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
         self.chain = BoundaryChain(mesh)
         self.tension = tension
+        self.support, self.gate, self.gate_speed = support, gate, gate_speed
         end = self.chain.vertices(END)
         self.end_x = float(mesh.ngmesh.Coordinates()[end, 0].max()) if end.size else np.inf
+        self.end = _end_line(mesh.ngmesh.Coordinates()[end], support) if end.size else None
+        self.clock = 0.0          # time of the accepted state (the gate's opening reads it)
+        self.gate_opened = 0      # gate edges that became free surface
+        self._dt = 0.0
         self.conserve_volume = conserve_volume
         self.measure = measure      # the area, or the revolved volume in axisymmetry
         self.initial_area = measure.size(mesh.ngmesh.Coordinates(), self.chain.segments)
@@ -72,7 +89,8 @@ class ColumnMover(AleMover):
 
     def save_state(self) -> dict[str, object]:
         """Reference area, counters and the surface-tension switch (for a checkpoint)."""
-        return {"initial_area": self.initial_area,
+        return {"initial_area": self.initial_area, "clock": self.clock,
+                "gate_opened": self.gate_opened,
                 "relabelled_segments": self.relabelled_segments,
                 "limited_steps": self.limited_steps, "velocity_solves": self.velocity_solves,
                 "correction_abs": self.correction_abs, "correction_net": self.correction_net,
@@ -82,6 +100,8 @@ class ColumnMover(AleMover):
         for key in ("initial_area", "relabelled_segments", "limited_steps", "velocity_solves",
                     "correction_abs", "correction_net"):
             setattr(self, key, state[key])
+        self.clock = float(state.get("clock", 0.0))      # type: ignore[arg-type]
+        self.gate_opened = int(state.get("gate_opened", 0))   # type: ignore[call-overload]
         if self.tension is not None and state["tension"] is not None:
             self.tension.state = copy.deepcopy(state["tension"])  # type: ignore[assignment]
 
@@ -95,19 +115,36 @@ class ColumnMover(AleMover):
         assert self.w_vertices is not None
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
-        candidates = np.setdiff1d(np.unique(self.chain.segments),
-                                  np.union1d(np.union1d(bed, wall), self._on_end()))
-        limited, self.landed = limit_step(xy, self.w_vertices, candidates, dt)
+        held = np.union1d(np.union1d(bed, wall), np.union1d(self._on_end(), self._on_gate()))
+        candidates = np.setdiff1d(np.unique(self.chain.segments), held)
+        limited, self.landed = limit_step(xy, self.w_vertices, candidates, dt, self.support)
         if limited < dt:
             dt = limited
             self.limited_steps += 1
             if self.extrapolate:   # w for the shortened step; the landed set is kept
                 self._prepare_w(dt)
+        if self.gate is not None and self.gate_speed is not None:   # at t^{n+1}, as (3.2)
+            self.gate_speed.Set(self.gate.law.velocity(self.clock + dt))
         return dt
 
     def _prepare_w(self, dt: float) -> None:
         super().prepare(dt)
         self._pin_contact_points(dt)
+        self._hold_bed_corners()
+
+    def _hold_bed_corners(self) -> None:
+        """A bed node at a corner of the bed profile stays there: w.N = u.N = 0 on both
+        segments (3.6) is w = 0 (the discrete u.N, imposed by a penalty, is not quite 0 and
+        would let it slide off). A contact point there still moves with the material."""
+        corners = self.support.bed.corners()
+        if not len(corners):
+            return
+        assert self.w_vertices is not None
+        xy = self.mesh.ngmesh.Coordinates()
+        bed = np.setdiff1d(self.chain.vertices(BED), self.chain.vertices(SURFACE))
+        d = np.hypot(*(xy[bed][:, None, :] - corners[None]).transpose(2, 0, 1)).min(axis=1)
+        scale = float(np.ptp(self.support.bed.points, axis=0).max())
+        self.w_vertices[bed[d <= 1e-9 * scale]] = 0.0
 
     def _pin_contact_points(self, dt: float) -> None:
         """Where the surface meets the bed or the wall, w = u (pure Lagrangian, section 3.2).
@@ -118,21 +155,27 @@ class ColumnMover(AleMover):
         """
         assert self.w_vertices is not None
         surface = self.chain.vertices(SURFACE)
-        walls = np.union1d(np.union1d(self._on_bed(), self._on_wall()), self._on_end())
+        walls = np.union1d(np.union1d(self._on_bed(), self._on_wall()),
+                           np.union1d(self._on_end(), self._on_gate()))
         corners = np.intersect1d(surface, walls)
         self.w_vertices[corners] = self.source_at_vertices(dt)[corners]
 
     def move(self, dt: float) -> None:
         super().move(dt)
+        self._dt = dt
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
-        end = self._on_end()
-        xy[bed, 1] = 0.0
-        xy[wall, 0] = 0.0
-        xy[end, 0] = self.end_x
-        snap_landed(xy, self.landed)   # a landing node lands exactly on the bed or the wall
+        end, gate = self._on_end(), self._on_gate()
+        xy[bed] = self.support.bed.project(xy[bed])
+        for line, on in ((self.support.wall, wall), (self.end, end),
+                         (self.gate.line if self.gate else None, gate)):
+            if line is not None and on.size:
+                xy[on] = line.project(xy[on])
+                xy[np.intersect1d(on, bed)] = line.point   # the corner with the bed
+        snap_landed(xy, self.landed, self.support)   # a landing node lands exactly on it
         if self.conserve_volume:
             pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
+            pinned = np.union1d(pinned, gate)
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             self.step_correction = conserve_area(xy, self.chain.segments, movable,
                                                  self.initial_area, measure=self.measure)
@@ -148,25 +191,32 @@ class ColumnMover(AleMover):
         return float(p[tri[under]].mean()) if under.any() else 0.0
 
     def _on_bed(self) -> np.ndarray:
-        """Vertices on bed segments, and landed surface vertices not yet on one (Z = 0)."""
+        """Vertices on bed segments, and landed surface vertices not yet on one."""
         xy = self.mesh.ngmesh.Coordinates()
-        landed = np.flatnonzero(xy[:, 1] <= 0.0)
+        landed = np.flatnonzero(self.support.bed.height(xy) <= 0.0)
         return np.union1d(self.chain.vertices(BED), landed)
 
     def _on_end(self) -> np.ndarray:
         return self.chain.vertices(END)
 
+    def _on_gate(self) -> np.ndarray:
+        return self.chain.vertices(GATE) if self.gate is not None else np.empty(0, np.int64)
+
     def _on_wall(self) -> np.ndarray:
+        if self.support.wall is None:
+            return self.chain.vertices(WALL)
         xy = self.mesh.ngmesh.Coordinates()
-        return np.union1d(self.chain.vertices(WALL), np.flatnonzero(xy[:, 0] <= 0.0))
+        return np.union1d(self.chain.vertices(WALL),
+                          np.flatnonzero(self.support.wall.height(xy) <= 0.0))
 
     def check(self) -> MoveFailure | None:
         problem = super().check()
         if problem is not None:
             return problem
         xy = self.mesh.ngmesh.Coordinates()
-        if (np.any(xy[:, 1] < -1e-12) or np.any(xy[:, 0] < -1e-12)
-                or np.any(xy[:, 0] > self.end_x + 1e-12)):
+        lines = [line for line in (self.support.wall, self.end) if line is not None]
+        if (np.any(self.support.bed.height(xy) < -CROSS)
+                or any(np.any(line.height(xy) < -CROSS) for line in lines)):
             return MoveFailure.CROSSED_WALL
         if segments_intersect(xy, self.chain.segments):
             return MoveFailure.SELF_INTERSECTS
@@ -177,9 +227,55 @@ class ColumnMover(AleMover):
         self.correction_net += self.step_correction
         if self.tension is not None and self.tension.state.active:
             self.tension.state.active_steps += 1
-        self.relabelled_segments += relabel_deposited(self.chain, tol=1e-12)
+        self.relabelled_segments += relabel_deposited(self.chain, 1e-12, self.support)
+        self.clock += self._dt
+        if self.gate is not None:
+            self.gate_opened += self._open_gate()
         super().after_accept()
+
+    def _open_gate(self) -> int:
+        """Gate edges whose middle the gate's lower end has passed become free surface
+        (their end on the gate a contact point): the opening is resolved to half an edge."""
+        assert self.gate is not None
+        if GATE not in self.chain.index:       # the gate has cleared the mass
+            return 0
+        e1 = self.mesh.ngmesh.Elements1D().NumPy()
+        on_gate = np.flatnonzero(e1["index"] == self.chain.index[GATE])
+        if not on_gate.size:
+            return 0
+        xy = self.mesh.ngmesh.Coordinates()
+        middle = xy[e1["nodes"][on_gate, :2].astype(np.int64) - 1].mean(axis=1)
+        opened = on_gate[~self.gate.closed(middle, self.clock)]
+        e1["index"][opened] = self.chain.index[SURFACE]
+        return len(opened)
+
+    def straddles_corner(self) -> bool:
+        """Whether a bed edge passes over a corner of the bed profile (a node slid through
+        it): a remesh then makes the corner a vertex again (``ale/remesh.py``)."""
+        bed = self.support.bed
+        if bed.segments == 1:
+            return False
+        e1 = self.mesh.ngmesh.Elements1D().NumPy()
+        on_bed = e1["index"] == self.chain.index[BED]
+        nodes = e1["nodes"][on_bed, :2].astype(np.int64) - 1
+        held = ~np.isin(nodes, self.chain.vertices(SURFACE))
+        scale = float(np.ptp(bed.points, axis=0).max())
+        ends = self.mesh.ngmesh.Coordinates()[nodes]
+        return straddled_corners(ends, held, bed, STRADDLE * scale) > 0
 
     def area(self) -> float:
         """The conserved measure now: the area (m^2 per metre), or the revolved volume (m^3)."""
         return self.measure.size(self.mesh.ngmesh.Coordinates(), self.chain.segments)
+
+
+def _end_line(points: np.ndarray, support: Support) -> Line:
+    """The far end of an erodible layer through its mesh vertices: a vertical line at their
+    largest x on the level bed (as the layer was built), else normal to the bed at its foot."""
+    if support.bed.level or np.ptp(points[:, 0]) == 0:
+        x = float(points[:, 0].max())
+        return Line.through(np.array([x, support.bed.points[0, 1]]), np.array([0.0, 1.0]),
+                            np.array([x - 1.0, 0.0]))
+    foot = points[np.argmin(support.bed.height(points))]
+    k = int(support.bed.segment_of(np.array([foot[0]]))[0])
+    return Line.through(support.bed.project(foot)[0], support.bed.normal(k),
+                        foot - support.bed.tangent(k))

@@ -22,12 +22,14 @@ from granflow.ale.free_surface import (
     segments_intersect,
 )
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, END, SURFACE, WALL, polygon_mesh
+from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL, polygon_mesh
+from granflow.geometry.profile import CORNER_DEG, BedProfile
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
 STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropped on remeshing
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
 FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
+SNAP_CORNER = 0.2  # a bed vertex this close (x its edge) to a bed corner it passed is put on it
 
 
 def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarray:
@@ -76,11 +78,13 @@ class Remeshed:
 
 def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
            measure: PolygonMeasure = AREA, layer_end: float | None = None,
-           layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC) -> Remeshed:
+           layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC,
+           bed: BedProfile | None = None) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
-    which Netgen splits at ``size``), and so are free-surface vertices where the surface
+    which Netgen splits at ``size``); the corners of the bed profile ``bed`` under a bed
+    edge are inserted and kept (``with_bed_corners``); free-surface vertices where the surface
     turns by less than ``STRAIGHT_DEG``: three such vertices would otherwise make a flat
     triangle with two boundary edges, which inverts as the surface straightens. Surface
     vertices bunched closer than ``MIN_SURFACE_EDGE * size`` are merged: (3.7) lets nodes
@@ -99,8 +103,9 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
     area = measure.size(xy[loop], _ring(len(loop)))
-    keep = kept_boundary_vertices(xy[loop], labels, MIN_SURFACE_EDGE * size)
-    points = [tuple(xy[loop[i]]) for i in keep]
+    loop_xy, labels = with_bed_corners(xy[loop], labels, bed)
+    keep = kept_boundary_vertices(loop_xy, labels, MIN_SURFACE_EDGE * size)
+    points = [tuple(loop_xy[i]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
     points, edge_labels = close_folds(points, edge_labels)
     n = len(points)
@@ -140,6 +145,65 @@ def lengthen_layer(points: list[tuple[float, float]], labels: list[str], end_x: 
         return points, labels
     return ([*points[:i], (end_x, 0.0), (end_x, top), *points[i + 1:]],
             [*labels[:i], END, SURFACE, *labels[i + 1:]])
+
+
+def with_bed_corners(pts: np.ndarray, labels: list[str], bed: BedProfile | None
+                     ) -> tuple[np.ndarray, list[str]]:
+    """The boundary loop with the bed profile's corners inserted into the bed edges that
+    pass over them (a node that slid through a corner left a chord across it)."""
+    if bed is None or not len(bed.corners()):
+        return pts, labels
+    corners = bed.corners()
+    pts = pts.copy()
+    out, out_labels = [], []
+    n = len(pts)
+    for i in range(n):
+        p, q = pts[i], pts[(i + 1) % n]
+        out.append(p)
+        out_labels.append(labels[i])
+        if labels[i] == BED:
+            lo, hi = min(p[0], q[0]), max(p[0], q[0])
+            inner = corners[(corners[:, 0] > lo) & (corners[:, 0] < hi)]
+            inner = inner[np.argsort(inner[:, 0] * np.sign(q[0] - p[0]))]
+            near = SNAP_CORNER * np.hypot(*(q - p))
+            p_held, q_held = labels[i - 1] == BED, labels[(i + 1) % n] == BED
+            for c in inner:     # a bed node that has only just slid past: back onto it
+                if np.hypot(*(c - p)) < near:
+                    if p_held:
+                        out[-1] = p = c
+                elif np.hypot(*(c - q)) < near:
+                    if q_held:
+                        pts[(i + 1) % n] = q = c
+                else:           # (a contact point just past it: later, once further)
+                    out.append(c)
+                    out_labels.append(BED)
+    if not np.array_equal(out[0], pts[0]):   # the first vertex moved as the last edge's end
+        out[0] = pts[0]
+    return np.array(out), out_labels
+
+
+def straddled_corners(pts: np.ndarray, held: np.ndarray, bed: BedProfile, tol: float) -> int:
+    """How many bed edges (``pts`` (k, 2, 2): their ends; ``held`` (k, 2): whether each end
+    is a bed node, not a contact point) pass over a corner of the bed profile more than
+    ``tol`` away from it, where a remesh would put a vertex on the corner (``with_bed_corners``:
+    not while a contact point is within SNAP_CORNER of an edge from it)."""
+    corners = bed.corners()
+    if not len(corners) or not len(pts):
+        return 0
+    lo, hi = pts[:, :, 0].min(axis=1), pts[:, :, 0].max(axis=1)
+    count = 0
+    for c in corners:
+        over = np.flatnonzero((lo < c[0]) & (hi > c[0]))
+        for k in over:
+            p, q = pts[k]
+            s = (c[0] - p[0]) / (q[0] - p[0])
+            if abs(p[1] + s * (q[1] - p[1]) - c[1]) <= tol:
+                continue
+            near = SNAP_CORNER * np.hypot(*(q - p))
+            close = np.hypot(*(pts[k] - c).T) < near
+            if not np.any(close & ~held[k]):
+                count += 1
+    return count
 
 
 def _ring(n: int) -> np.ndarray:
@@ -206,7 +270,9 @@ def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) 
     keep: list[int] = []
     dropped_previous = False
     for i in range(len(pts)):
-        straight_run = labels[i - 1] == labels[i] and labels[i] in (BED, WALL, END)
+        straight_run = labels[i - 1] == labels[i] and (
+            labels[i] in (WALL, END, GATE)
+            or (labels[i] == BED and turn[i] < CORNER_DEG))   # a bed profile's corner stays
         inner_surface = labels[i - 1] == labels[i] == SURFACE
         flat = inner_surface and turn[i] < STRAIGHT_DEG
         close = inner_surface and bool(keep) and (

@@ -31,6 +31,7 @@ import tomli_w
 from pydantic import ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
+from granflow.config.geometry_rules import anchor_paths, resolve_geometry
 from granflow.config.messages import fmt_value, note, one_line
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
@@ -129,6 +130,7 @@ def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -
     """The one validation path of every interface: ``data`` (the layers and overrides
     merged) against ``base`` (what the keys would be without the user's settings)."""
     dropped = _drop_late_outputs(data, explicit_times)
+    resolve_geometry(data, base)
     config = _validate(data)
     changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
                if data[section][key] != base[section].get(key)]
@@ -196,6 +198,7 @@ def _read_source(source: str | Path) -> tuple[str, list[dict[str, Any]]]:
         path = Path(source)
         data = read_toml_file(path, "scenario file")
         _check_keys(data)
+        anchor_paths(data, path.resolve().parent)
         base = data.pop("scenario", CUSTOM)
         if base == CUSTOM:
             return CUSTOM, [data]

@@ -63,7 +63,8 @@ def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
     if tp is bool:
         return "true or false"
     if origin is list:
-        return "a list of numbers"
+        inner = get_args(args[0])[0] if args and get_origin(args[0]) is Annotated else None
+        return "a list of [x, z] points" if get_origin(inner) is list else "a list of numbers"
     if tp is str:
         return "a string"
     bounds: dict[str, float] = {}

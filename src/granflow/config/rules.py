@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from granflow.config.cost import cost_problems
+from granflow.config.geometry_rules import geometry_inert_keys, geometry_problems
 from granflow.config.messages import fmt_value
 from granflow.config.schema import Layer, Material
 
@@ -72,7 +73,10 @@ def problems(c: Config) -> Iterator[str]:
                    "geometry.kind = 'column' (its free surface must move); "
                    "use 'elastic' (3.6) or 'lagrange' (3.7)")
         yield from _axisymmetric_problems(c)
-        if g.shape == "trapezoid" and _front_run(g.height, g.front_angle_deg) >= g.width:
+        yield from geometry_problems(c)
+        builtin = g.mass is None and g.mass_file is None     # (a user's mass: no shape)
+        if (builtin and g.shape == "trapezoid"
+                and _front_run(g.height, g.front_angle_deg) >= g.width):
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
     st = c.surface_tension
@@ -307,4 +311,5 @@ def inert_keys(c: Config) -> dict[str, str]:
     if c.numerics.linearization == "newton" or c.numerics.method != "regularized":
         add("numerics.anderson_depth", "it accelerates the fixed-point iteration (3.2), "
             "which numerics.linearization = 'newton' and the augmented Lagrangian do not run")
+    out.update(geometry_inert_keys(c))
     return out

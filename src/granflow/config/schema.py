@@ -34,6 +34,10 @@ Step = Annotated[float, Field(ge=1e-12, le=100)]         # s, a time step
 Penalty = Annotated[float, Field(ge=1, le=1e20)]
 Count = Annotated[int, Field(ge=0, le=10**9)]
 ShearRate = Annotated[float, Field(gt=0, le=1e6)]        # 1/s
+Coordinate = Annotated[float, Field(ge=-1e5, le=1e5)]    # m
+Point = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]   # [x, z]
+Points = Annotated[list[Point], Field(min_length=1, max_length=100_000)]
+FilePath = Annotated[str, Field(min_length=1, max_length=4096)]
 
 
 class _Section(BaseModel):
@@ -134,6 +138,21 @@ class Geometry(_Section):
     erodible_thickness: Annotated[float, Field(ge=0, le=1e4)]  # column: he, 0 = rigid bed
     bed_length: Length  # column on an erodible layer: where the layer ends
     axisymmetric: bool  # column: a cylinder in r-z (width = its radius r0; x = 0 is the axis)
+    bed_profile: Points | None  # column: the rigid bed z_b(x) as [x, z] points; None = z = 0
+    bed_profile_file: FilePath | None  # column: the same from a CSV or GeoJSON file
+    mass: Points | None  # column: the initial mass as a closed polygon; None = shape
+    mass_file: FilePath | None  # column: the same from a CSV or GeoJSON file
+    left_wall: bool  # column: a wall at the profile's first point, normal to its first segment
+
+
+class Gate(_Section):
+    """A gate on the mass's front face, withdrawn along itself (``geometry/gate.py``)."""
+
+    enabled: bool
+    speed_law: Literal["constant", "exponential"]  # U, or U (1 - exp(-t / tau))
+    speed: Annotated[float, Field(gt=0, le=50)]  # U or U_inf (m/s): 50 m/s is instantaneous
+    tau: Annotated[float, Field(gt=0, le=100)]  # s, of the exponential law
+    friction_deg: Angle  # Coulomb friction of the gate, mu_g = tan(angle)
 
 
 class Boundary(_Section):
@@ -233,6 +252,7 @@ class ConfigModel(_Section):
     material: Material
     layer: Layer
     geometry: Geometry
+    gate: Gate
     boundary: Boundary
     initial: Initial
     mesh: Mesh

@@ -109,7 +109,8 @@ class FlowSolver:
             dual = DualVariable(mesh, rheology, self.solution)
             correction = dual.forms(self.space)
         picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
-                                  constant=forms.constant, correction=correction)
+                                  constant=forms.constant, correction=correction,
+                                  rhs_reads_iterate=forms.rhs_reads_iterate)
         self.nonlinear = NonlinearSolver(
             picard=picard,
             newton=ResidualSystem(residual_form(self.space, self.terms, coordinates), freedofs,

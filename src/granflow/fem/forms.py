@@ -214,12 +214,14 @@ class FrictionWall:
     region: str
     law: CoulombFriction
     normal_load: str = "pressure"
+    velocity: ngs.CoefficientFunction | None = None   # a moving wall's (a gate), tangential
 
 
 @dataclass(frozen=True)
-class CoulombWallFriction(_LhsOnly):
+class CoulombWallFriction:
     """mu [p - sigma'_N]_+ u_T . v_T / sqrt(|u_T|^2 + eps_f^2) on one wall (2.17a), the
-    drag and the normal load taken at (u_lin, p_lin) as in (3.2a).
+    drag and the normal load taken at (u_lin, p_lin) as in (3.2a). On a wall moving at V
+    along itself (a gate) the slip is u_T - V_T: the drag times V_T . v_T is on the right.
 
     sigma'_N = (sigma' N) . N needs the strain rate of the volume element at the wall,
     hence a boundary skeleton integral.
@@ -229,11 +231,37 @@ class CoulombWallFriction(_LhsOnly):
     stress: StressTerm
     penalty: float = 0.0     # xi of NormalPenalty, for normal_load = "reaction"
 
+    @property
+    def rhs_reads_iterate(self) -> bool:
+        """A moving wall's right-hand side has the drag at the iterate (Picard assembles
+        it at every iteration)."""
+        return self.wall.velocity is not None
+
+    def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
+        if self.wall.velocity is None:
+            return None
+        n = ngs.specialcf.normal(mesh.dim)
+        drag, skeleton = self._drag(s, mesh)
+        integrand = drag * tangential(self.wall.velocity, n) * tangential(s.v, n)
+        region = mesh.Boundaries(self.wall.region)
+        return s.coords.ds(integrand, skeleton=skeleton, definedon=region)
+
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
         n = ngs.specialcf.normal(mesh.dim)
-        frozen = s.u_lin is not s.u
         region = mesh.Boundaries(self.wall.region)
-        slip = tangential(s.u_lin, n)
+        drag, skeleton = self._drag(s, mesh)
+        integrand = drag * tangential(s.u, n) * tangential(s.v, n)
+        if skeleton:
+            return s.coords.ds(integrand, skeleton=True, definedon=region)
+        return s.coords.ds(integrand, definedon=region)
+
+    def _drag(self, s: Symbols, mesh: ngs.Mesh) -> tuple[ngs.CoefficientFunction, bool]:
+        """The drag coefficient at (u_lin, p_lin), and whether it needs a skeleton
+        integral (it reads the volume's strain rate)."""
+        n = ngs.specialcf.normal(mesh.dim)
+        frozen = s.u_lin is not s.u
+        moving = s.u_lin if self.wall.velocity is None else s.u_lin - self.wall.velocity
+        slip = tangential(moving, n)
         skeleton = False
         if self.wall.normal_load == "reaction":
             load = self.penalty * (s.u_lin * n)
@@ -241,11 +269,7 @@ class CoulombWallFriction(_LhsOnly):
             sigma = self.stress.wall_deviatoric(s.u_lin, s.p_lin, frozen)
             load = s.p_lin - ngs.InnerProduct(sigma * n, n)
             skeleton = not frozen
-        drag = self.wall.law.drag_coefficient_sq(slip * slip, load, NGSOLVE_OPS)
-        integrand = drag * tangential(s.u, n) * tangential(s.v, n)
-        if skeleton:
-            return s.coords.ds(integrand, skeleton=True, definedon=region)
-        return s.coords.ds(integrand, definedon=region)
+        return self.wall.law.drag_coefficient_sq(slip * slip, load, NGSOLVE_OPS), skeleton
 
 
 @dataclass(frozen=True)
@@ -346,6 +370,7 @@ class FixedPointForms:
     iterate: ngs.BilinearForm
     constant: ngs.BilinearForm
     rhs: ngs.LinearForm
+    rhs_reads_iterate: bool = False     # assembled at every iteration (a moving wall)
 
 
 def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
@@ -363,4 +388,5 @@ def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
                 a += lhs.Compile()   # the same matrix, ~12 % faster to assemble
         if (rhs := term.rhs(s, space.mesh)) is not None:
             f += rhs
-    return FixedPointForms(iterate=a, constant=a0, rhs=f)
+    reads = any(getattr(term, "rhs_reads_iterate", False) for term in terms)
+    return FixedPointForms(iterate=a, constant=a0, rhs=f, rhs_reads_iterate=reads)

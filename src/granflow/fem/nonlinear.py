@@ -36,8 +36,10 @@ class FixedPointSystem:
 
     def __init__(self, a: ngs.BilinearForm, f: ngs.LinearForm, freedofs: ngs.BitArray,
                  solver: str = "umfpack", constant: ngs.BilinearForm | None = None,
-                 correction: tuple[ngs.BilinearForm, ngs.LinearForm] | None = None) -> None:
+                 correction: tuple[ngs.BilinearForm, ngs.LinearForm] | None = None,
+                 rhs_reads_iterate: bool = False) -> None:
         self.a, self.f, self.constant, self.correction = a, f, constant, correction
+        self.rhs_reads_iterate = rhs_reads_iterate    # f is assembled at every iteration
         self.lu = ReusableLU(a, freedofs, solver)
         self._rhs = f.vec.CreateVector()
 
@@ -73,6 +75,8 @@ class FixedPointSystem:
         ``corrected``, the primal-dual correction's matrix and right-hand side join."""
         self.assemble(corrected)
         self.lu.update()
+        if self.rhs_reads_iterate:
+            self.f.Assemble()
         if not (corrected and self.correction is not None):
             self.lu.solve(self.f.vec, out)
             return

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from granflow.geometry.mesh import BED, END, SURFACE, WALL
+from granflow.geometry.labels import BED, END, SURFACE, WALL
 
 
 @dataclass(frozen=True)

@@ -2,9 +2,10 @@
 
 Two Lagrangian records, both carried by the material velocity:
 
-* the layer's top at t = 0 (z = h_e from the wall to the layer's end) as a material line of
-  markers, refined wherever the flow stretches it; the layer material is the region below
-  it (closed far outside the domain, where it does not matter). Its triangle fractions (the
+* the layer's top at t = 0 (z = h_e from the wall to the layer's end; on a bed profile the
+  curve h_e above it, ``along_bed``) as a material line of markers, refined wherever the
+  flow stretches it; the layer material is the region below it (closed far outside the
+  domain, where it does not matter). Its triangle fractions (the
   exact area of each triangle inside the region) are the material indicator of a run with
   two materials;
 * a lattice of markers inside the layer, each keeping its origin: what moved, how far and
@@ -29,6 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from granflow.geometry.profile import BedProfile
+
 FAR = 1e3   # m: the region is closed this far outside any domain
 ROWS = 4    # rows of lattice markers across the layer
 ROUND_OFF = 1e-12   # a triangle's share of layer material this close to 0 or 1 is 0 or 1
@@ -48,6 +51,8 @@ class LayerMaterial:
     thickness: float          # h_e (m)
     marker_area: float        # layer area each lattice marker stands for (m^2)
     surgery_area: float = 0.0  # area the line's untangling and coarsening changed (m^2)
+    heights: np.ndarray | None = None   # (m,) on a bed profile: each marker's start above it
+    outline: np.ndarray | None = None   # on a bed profile: the layer's ring at t = 0
 
     @classmethod
     def initial(cls, thickness: float, length: float, cells: int) -> LayerMaterial:
@@ -67,6 +72,37 @@ class LayerMaterial:
         return cls(line=line, markers=markers, origins=markers.copy(),
                    travel=np.zeros(len(markers)), spacing=spacing, thickness=thickness,
                    marker_area=length * thickness / len(markers))
+
+    @classmethod
+    def along_bed(cls, thickness: float, bed: BedProfile, length: float,
+                  cells: int) -> LayerMaterial:
+        """The layer ``thickness`` thick on the bed profile from its first point to arc
+        length ``length``: its top the curve that far above the bed (normal to each
+        segment), the markers in rows at the same heights above the bed, spaced along it."""
+        if thickness <= 0 or length <= 0:
+            raise ValueError(f"layer of thickness {thickness} and length {length}: both must "
+                             "be > 0")
+        spacing = thickness / cells / 4
+        line = refined(bed.offset(thickness, 0.0, length), spacing)
+        pitch = thickness / ROWS
+        count = round(length / pitch)
+        along = np.arange(0.5, count) * (length / count)
+        base, k = bed.at_arc_length(along)
+        heights = (np.arange(ROWS) + 0.5) * pitch
+        normals = np.array([bed.normal(int(i)) for i in k])
+        markers = (base[None] + heights[:, None, None] * normals[None]).reshape(-1, 2)
+        outline = np.vstack([bed.between(0.0, length), bed.offset(thickness, 0.0, length)[::-1]])
+        area = float(shapely.Polygon(outline).area)
+        return cls(line=line, markers=markers, origins=markers.copy(),
+                   travel=np.zeros(len(markers)), spacing=spacing, thickness=thickness,
+                   marker_area=area / len(markers),
+                   heights=np.repeat(heights, len(along)), outline=outline)
+
+    def initial_shape(self) -> shapely.Geometry:
+        """The layer at t = 0: [0, length] x [0, h_e], or its ring on a bed profile."""
+        if self.outline is not None:
+            return shapely.Polygon(self.outline)
+        return shapely.box(0, 0, *self.extent)
 
     @property
     def initial_area(self) -> float:
@@ -164,12 +200,15 @@ class LayerMaterial:
 
     def _depths(self, moved: np.ndarray) -> np.ndarray:
         """Depth below the layer's top down to the bottom of each moved marker's row."""
-        return self.thickness - self.origins[moved, 1] + 0.5 * self.pitch
+        start = self.origins[:, 1] if self.heights is None else self.heights
+        return self.thickness - start[moved] + 0.5 * self.pitch
 
     def save_state(self) -> dict[str, np.ndarray | float]:
+        extra = {k: v for k, v in (("heights", self.heights), ("outline", self.outline))
+                 if v is not None}
         return {"line": self.line, "markers": self.markers, "origins": self.origins,
                 "travel": self.travel, "spacing": self.spacing, "thickness": self.thickness,
-                "marker_area": self.marker_area, "surgery_area": self.surgery_area}
+                "marker_area": self.marker_area, "surgery_area": self.surgery_area, **extra}
 
     @classmethod
     def from_state(cls, state: dict[str, np.ndarray | float]) -> LayerMaterial:
@@ -178,7 +217,12 @@ class LayerMaterial:
         return cls(**arrays, spacing=float(state["spacing"]),         # type: ignore[arg-type]
                    thickness=float(state["thickness"]),               # type: ignore[arg-type]
                    marker_area=float(state["marker_area"]),           # type: ignore[arg-type]
-                   surgery_area=float(state.get("surgery_area", 0.0)))  # type: ignore[arg-type]
+                   surgery_area=float(state.get("surgery_area", 0.0)),  # type: ignore[arg-type]
+                   heights=_optional(state, "heights"), outline=_optional(state, "outline"))
+
+
+def _optional(state: dict[str, np.ndarray | float], key: str) -> np.ndarray | None:
+    return np.array(state[key], dtype=float) if key in state else None
 
 
 def _closed(line: np.ndarray) -> np.ndarray:

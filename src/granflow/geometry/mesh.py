@@ -1,5 +1,5 @@
-"""Meshes of the built-in domains (labels: ``bed``, ``wall``, ``surface``, and ``end``, the
-far end of an erodible layer)."""
+"""Meshes of the domains (labels, ``geometry/labels.py``: ``bed``, ``wall``, ``surface``,
+``end``, the far end of an erodible layer, and ``gate``)."""
 
 from __future__ import annotations
 
@@ -12,11 +12,12 @@ from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
+from granflow.geometry.labels import BED, END, GATE, INTERIOR, LABELS, SURFACE, WALL
+from granflow.geometry.profile import CORNER_DEG
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
-BED, WALL, SURFACE, END = "bed", "wall", "surface", "end"
-LABELS = (BED, WALL, SURFACE, END)
-INTERIOR = "interior"   # a line inside the domain the mesh follows (not a boundary)
+__all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
+           "periodic_layer_mesh", "polygon_mesh", "signed_areas"]
 
 
 def periodic_layer_mesh(length: float, height: float, size: float,
@@ -139,7 +140,8 @@ def collapse_flat_corners(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
 
     Their middle vertex lies (almost) on the chord of its neighbours, so the convex flip is
     impossible; dropping that vertex and the sliver replaces two boundary edges by the
-    chord (the area change is a sliver's; the column's area correction restores it).
+    chord (the area change is a sliver's; the column's area correction restores it). A bed
+    vertex where the bed turns (a corner of a bed profile) is never dropped.
     """
     labels = list(labels)
     for _ in range(10):
@@ -158,7 +160,8 @@ def collapse_flat_corners(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
                 k_in = ends[0] if segments[ends[0]][1] == m else ends[1]
                 k_out = ends[1] if k_in == ends[0] else ends[0]
                 a, b = segments[k_in][0], segments[k_out][1]
-                if set(tri[t]) != {a, m, b}:
+                if set(tri[t]) != {a, m, b} or (labels[k_in] == BED
+                                                and _turn_deg(xy[a], xy[m], xy[b]) > CORNER_DEG):
                     continue
                 segments = segments.copy()
                 segments[k_in] = [a, b]
@@ -194,6 +197,12 @@ def _flip_interior_edge(xy: np.ndarray, tri: np.ndarray, t: int) -> None:
         if _area(xy, new1) > 0 and _area(xy, new2) > 0:
             tri[t], tri[n] = new1, new2
             return
+
+
+def _turn_deg(a: np.ndarray, m: np.ndarray, b: np.ndarray) -> float:
+    """How far the polyline a, m, b turns at m (degrees)."""
+    u, v = m - a, b - m
+    return float(np.degrees(abs(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))))
 
 
 def _area(xy: np.ndarray, t: np.ndarray) -> float:

@@ -24,6 +24,8 @@ from matplotlib.patches import Patch  # noqa: E402
 
 from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.geometry.domains import column  # noqa: E402
+from granflow.geometry.scene import build_scene  # noqa: E402
+from granflow.geometry.sources import GeometryError  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
@@ -58,6 +60,7 @@ class View:
         self.x = "r" if g.axisymmetric else "x"          # the radius of a cylinder
         self.bed = _bed_note(g.slope_deg, g.axisymmetric)
         self.outline = initial_outline(self.config)
+        self.bed_line = bed_line(self.config)      # None: the level bed z = 0
         self.final = final_state(self.run_dir, self.summary)
         rest = self.summary.get("outputs_at_rest") or [] if self.final is not None else []
         drawn = [t for t in self.config.time.output_times
@@ -97,10 +100,28 @@ def final_state(run_dir: RunDir, summary: dict[str, Any]) -> Final | None:
 def initial_outline(config: Any) -> np.ndarray:
     """The column at t = 0 as a closed polyline (drawn dashed for reference)."""
     g = config.geometry
-    poly = column(g.shape, g.width, g.height, g.front_angle_deg, g.erodible_thickness,
-                  g.bed_length)
-    points = np.asarray(poly.points, dtype=float)
+    try:
+        points = np.asarray(build_scene(g, config.gate).polygon.points, dtype=float)
+    except GeometryError:                       # a profile's file gone since the run
+        points = np.asarray(column(g.shape, g.width, g.height, g.front_angle_deg,
+                                   g.erodible_thickness, g.bed_length).points, dtype=float)
     return np.vstack([points, points[:1]])
+
+
+def bed_line(config: Any) -> np.ndarray | None:
+    """The bed profile to draw (None: the level bed z = 0, the figures' lower edge)."""
+    g = config.geometry
+    if g.bed_profile is None and g.bed_profile_file is None:
+        return None
+    try:
+        return build_scene(g, config.gate).bed.points
+    except GeometryError:
+        return None
+
+
+def _draw_bed(view: View, ax: plt.Axes) -> None:
+    if view.bed_line is not None:
+        ax.plot(*view.bed_line.T, color="0.25", lw=1.4, zorder=1)
 
 
 def plot_collapse(run_dir: RunDir, config: Any) -> None:
@@ -120,6 +141,7 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
 
 def _free_surfaces(view: View) -> None:
     fig, ax = plt.subplots(figsize=(8, 3.2))
+    _draw_bed(view, ax)
     ax.plot(*view.outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t in view.times:
         prof = profiles.profile_at(view.run_dir.root, "free_surface", t)
@@ -146,14 +168,20 @@ def _zones(view: View) -> None:
                 for t in times)
     xmax = 1.04 * max(front, float(view.outline[:, 0].max()))
     zmax = 1.06 * view.config.geometry.height
+    zmin = 0.0
+    if view.bed_line is not None:               # the mass over the drawn part of the bed
+        zmax = float(view.outline[:, 1].max()) + 0.06 * view.config.geometry.height
+        shown = view.bed_line[(view.bed_line[:, 0] <= xmax)]
+        zmin = min(float(view.outline[:, 1].min()), float(shown[:, 1].min(initial=0.0)))
     ncols = 2 if len(times) > 2 else 1
     nrows = -(-len(times) // ncols)
     aspect = view.aspect(xmax)
-    panel = (4.4 if ncols == 2 else 8.0) * zmax / xmax if aspect == "equal" else 1.4
+    panel = (4.4 if ncols == 2 else 8.0) * (zmax - zmin) / xmax if aspect == "equal" else 1.4
     fig, axes = plt.subplots(nrows, ncols, figsize=(9.0 if ncols == 2 else 8.0,
                                                     0.9 + nrows * max(panel, 0.9)),
                              sharex=True, sharey=True, squeeze=False, layout="constrained")
     for ax, t in zip(axes.flat, times, strict=False):
+        _draw_bed(view, ax)
         ax.plot(*view.outline.T, "--", color="0.6", lw=0.7)
         try:
             snap = read_snapshot(view.run_dir.root, t)
@@ -176,7 +204,8 @@ def _zones(view: View) -> None:
         ax.plot(surface["x"], surface["z"], color="k", lw=0.7)
         ax.text(0.99, 0.93, view.label(t), transform=ax.transAxes, ha="right", va="top",
                 fontsize=9)
-        ax.set(xlim=(0, xmax), ylim=(0, zmax), aspect=aspect)
+        ax.set(xlim=(min(0.0, float(view.outline[:, 0].min())), xmax), ylim=(zmin, zmax),
+               aspect=aspect)
     for ax in axes.flat[len(times):]:
         ax.set_visible(False)
     for j in range(min(ncols, len(times))):   # each column's lowest panel: the x axis
@@ -208,6 +237,7 @@ def _sections(view: View) -> None:
     fig = plt.figure(figsize=(max(3.1 * n, 7.0), 8.2), layout="constrained")
     grid = fig.add_gridspec(3, n, height_ratios=[0.8, 1, 1])
     where = fig.add_subplot(grid[0, :])
+    _draw_bed(view, where)
     where.plot(*view.outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t, _ in found:
         surface = profiles.profile_at(root, "free_surface", t)

@@ -16,8 +16,9 @@ from granflow.ale.remesh import boundary_edge_sizes
 from granflow.config import Config
 from granflow.diagnostics.inertial import InertialNumbers
 from granflow.fem.flow import FlowSolver
-from granflow.geometry.domains import Polygon, column
+from granflow.geometry.domains import Polygon
 from granflow.geometry.mesh import polygon_mesh
+from granflow.geometry.scene import Scene, build_scene
 from granflow.physics import MuI, gravity_vector
 from granflow.physics.well_posedness import well_posed_window
 from granflow.scenarios.column_discretisation import (
@@ -129,24 +130,33 @@ def _inertial_numbers(law: object) -> InertialNumbers | None:
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     geo, mat = config.geometry, config.material
-    two_materials = layer_material(config) is not None
-    polygon = column(geo.shape, geo.width, geo.height, geo.front_angle_deg,
-                     geo.erodible_thickness, layer_end(config, geo.width),
-                     interface=two_materials)
+    scene = column_scene(config)
+    polygon = scene.local or scene.polygon      # a built-in shape: meshed in its frame
     fine = layer_cell_size(config) if geo.erodible_thickness > 0 else config.mesh.size
+    sizes = layer_edge_sizes(config)
     mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
-                        boundary_edge_sizes(polygon.points, layer_edge_sizes(config)),
+                        boundary_edge_sizes(scene.to_lab(np.asarray(polygon.points)), sizes),
                         interior=[(i, j, fine) for i, j in polygon.interior],
                         stretch=layer_stretch(config))
+    xy = mesh.ngmesh.Coordinates()
+    local = xy.copy()
+    if scene.frame is not None:                 # and turned onto the bed profile
+        xy[:] = scene.to_lab(local)
     current = discretise(config, mesh)
     layer = LayerTracking.start(config, current) if geo.erodible_thickness > 0 else None
     if layer is not None:
         current.set_fraction(layer.material)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    xy = mesh.ngmesh.Coordinates()
-    heights = np.array([polygon.surface_height(x) for x in xy[:, 0]])
+    if scene.local is not None:     # depths across the bed, in the shape's frame
+        g_n = force[1] if scene.frame is None else float(np.dot(force, scene.frame[2]))
+        heights = np.array([polygon.surface_height(x) for x in local[:, 0]])
+        top = None
+    else:                           # a user's mass: vertical depths
+        g_n, heights = force[1], np.array([polygon.surface_height(x) for x in xy[:, 0]])
+        local = xy
+        top = scene.layer_top if scene.layer > 0 else None
     pressure = ngs.GridFunction(ngs.H1(mesh, order=1))
-    pressure.vec.FV().NumPy()[:] = _hydrostatic(config, force[1], heights, xy[:, 1])
+    pressure.vec.FV().NumPy()[:] = _hydrostatic(config, g_n, heights, local, top)
     current.solver.set_state(ngs.CF((0.0, 0.0)), pressure)          # at rest, hydrostatic
     simulation = Simulation(solver=current.solver, steps_policy=step_policy(config),
                             t_end=config.time.t_end,
@@ -167,17 +177,29 @@ def build_column(config: Config) -> ColumnCollapse:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
-    return ColumnCollapse(config=config, polygon=polygon, current=current,
+    return ColumnCollapse(config=config, polygon=scene.polygon, current=current,
                           simulation=simulation, remesher=remesher, measures=measures,
                           layer=layer, mobilisation=mobilisation)
 
 
-def _hydrostatic(config: Config, g_z: float, heights: np.ndarray, z: np.ndarray) -> np.ndarray:
+def column_scene(config: Config) -> Scene:
+    """The bed, the walls and the initial domain (``geometry/scene.py``): the meshed layer
+    ends at ``layer_end``; a layer of its own material starts with its top under the column
+    as an interior line of the mesh."""
+    geo = config.geometry
+    return build_scene(geo, config.gate, layer_end(config, geo.width),
+                       interface=layer_material(config) is not None)
+
+
+def _hydrostatic(config: Config, g_z: float, heights: np.ndarray, xy: np.ndarray,
+                 layer_top: Any = None) -> np.ndarray:
     """The pressure at rest: -rho g_z (depth below the surface); with a layer of its own
     density, the column's weight down to the layer's top and the layer's below it."""
+    z = xy[:, 1]
     depth = np.maximum(heights - z, 0)
     layer = layer_material(config)
     if layer is None:
         return -config.material.density * g_z * depth
-    in_layer = np.clip(config.geometry.erodible_thickness - z, 0.0, depth)
+    top = layer_top(xy[:, 0]) if layer_top is not None else config.geometry.erodible_thickness
+    in_layer = np.clip(top - z, 0.0, depth)
     return -g_z * (config.material.density * (depth - in_layer) + layer.density * in_layer)

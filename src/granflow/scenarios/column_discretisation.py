@@ -8,8 +8,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.ale.column_mover import ColumnMover
+from granflow.ale.deposition import Support
 from granflow.ale.free_surface import polygon_measure
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.remesh import EdgeSize
@@ -22,7 +24,8 @@ from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
 from granflow.fem.mobilisation import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
-from granflow.geometry.mesh import BED, END, SURFACE, WALL
+from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
+from granflow.geometry.scene import build_scene
 from granflow.geometry.stretch import LayerStretch
 from granflow.physics import CoulombFriction, Rheology, gravity_vector
 from granflow.physics.regions import TwoMaterials, blend
@@ -72,7 +75,7 @@ def layer_cell_size(config: Config) -> float:
 
 
 def layer_edge_sizes(config: Config) -> EdgeSize | None:
-    """Over an erodible layer of thickness h_e: edges lying within 2 h_e of the bed get
+    """Over an erodible layer of thickness h_e: edges lying within 2 h_e above the bed get
     the layer's cell size (``layer_cell_size``: the bed, the layer's top and its end), so
     that the layer has mesh.layer_cells cells across; Netgen grades the rest up to
     mesh.size."""
@@ -80,7 +83,8 @@ def layer_edge_sizes(config: Config) -> EdgeSize | None:
     if he <= 0:
         return None
     fine, size = layer_cell_size(config), config.mesh.size
-    return lambda p, q: fine if max(p[1], q[1]) <= 2 * he else size
+    bed = build_scene(config.geometry, config.gate).bed     # heights above the bed profile
+    return lambda p, q: fine if bed.height(np.array([p, q])).max() <= 2 * he else size
 
 
 def layer_end(config: Config, moving_x: float) -> float:
@@ -100,6 +104,7 @@ def friction_walls(config: Config) -> list[str]:
     """The boundaries with Coulomb friction and the normal penalty: the bed, the wall at
     x = 0 unless it is the symmetry axis, and the far end of an erodible layer."""
     walls = [BED] if config.geometry.axisymmetric else [BED, WALL]
+    walls += [GATE] if config.gate.enabled else []
     return [*walls, END] if config.geometry.erodible_thickness > 0 else walls
 
 
@@ -117,6 +122,12 @@ def discretise(config: Config, mesh: ngs.Mesh,
                                                         num.eps_friction), load))
     if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
+    scene = build_scene(geo, config.gate)     # the bed profile, the walls, a gate
+    gate_speed = ngs.Parameter(0.0) if scene.gate is not None else None
+    if scene.gate is not None:     # slides up along itself: friction against its motion
+        walls.append(FrictionWall(GATE, CoulombFriction(scene.gate.friction_deg,
+                                                        num.eps_friction), load,
+                                  velocity=gate_speed * ngs.CF(scene.gate.line.direction)))
     st = config.surface_tension
     mobilisation = MobilisationField(mesh) if hysteretic(config) else None
     rheology, density, fraction = _materials(config, mesh, mobilisation)
@@ -143,7 +154,9 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction, tension=tension,
-                        measure=polygon_measure(geo.axisymmetric))
+                        measure=polygon_measure(geo.axisymmetric),
+                        support=Support(scene.bed, scene.wall), gate=scene.gate,
+                        gate_speed=gate_speed)
     out = ColumnDiscretisation(mesh, solver, mover, fraction, mobilisation)
     out.set_fraction(layer)
     return out

@@ -30,6 +30,7 @@ from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.fem.sampling import values_at
 from granflow.geometry.layer_material import LayerMaterial
+from granflow.geometry.scene import build_scene
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.materials import layer_material
 from granflow.simulation.simulation import Simulation
@@ -64,8 +65,13 @@ class LayerTracking:
     @classmethod
     def start(cls, config: Config, current: ColumnDiscretisation) -> LayerTracking:
         geo = config.geometry
-        material = LayerMaterial.initial(geo.erodible_thickness, geo.bed_length,
-                                         config.mesh.layer_cells)
+        bed = build_scene(geo, config.gate).bed
+        if bed.level and bed.points[0, 0] == 0 and bed.points[0, 1] == 0:   # z = 0 from x = 0
+            material = LayerMaterial.initial(geo.erodible_thickness, geo.bed_length,
+                                             config.mesh.layer_cells)
+        else:
+            material = LayerMaterial.along_bed(geo.erodible_thickness, bed, geo.bed_length,
+                                               config.mesh.layer_cells)
         return cls(config, current, material)
 
     def sample(self) -> None:
@@ -128,7 +134,7 @@ class LayerTracking:
         try:
             domain, region = self.domain(), mat.region()
             inside = self.size(shapely.intersection(region, domain))
-            drift = inside / self.size(shapely.box(0, 0, *mat.extent)) - 1.0
+            drift = inside / self.size(mat.initial_shape()) - 1.0
             column_front = _column_front(domain, region, 0.1 * mat.thickness)
             self.largest_drift = max(self.largest_drift, abs(drift))
         except shapely.errors.GEOSException:    # a degenerate fold: not measured this step

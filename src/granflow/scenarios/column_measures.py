@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import ngsolve as ngs
@@ -23,6 +24,7 @@ from granflow.diagnostics.state import FLOWING_SPEED, flowing_cells
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.sampling import cell_means, point_values, triangles, vertex_samples
 from granflow.geometry.mesh import signed_areas
+from granflow.geometry.scene import build_scene
 from granflow.physics import MuI
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.column_layer import LayerTracking
@@ -56,7 +58,34 @@ class ColumnMeasures:
         he = self.config.geometry.erodible_thickness
         if he <= 0:
             return front_diag.front_position(self.current.mesh.ngmesh.Coordinates())
-        return front_diag.thick_front(self.surface(), he + 1e-3)
+        return front_diag.thick_front(self.surface_above_bed(), he + 1e-3)
+
+    def surface_above_bed(self) -> np.ndarray:
+        """The free surface as (x, height above the bed profile)."""
+        surface = self.surface().copy()
+        surface[:, 1] = self.current.mover.support.bed.height(surface)
+        return surface
+
+    def wall_height(self, xy: np.ndarray) -> float:
+        """Height of the mass along the left wall (0 without one)."""
+        wall = self.current.mover.support.wall
+        if wall is None:
+            return 0.0
+        on_wall = wall.height(xy) <= 1e-12
+        return float(wall.along(xy[on_wall]).max()) if np.any(on_wall) else 0.0
+
+    @cached_property
+    def initial_front(self) -> float:
+        """X_g: the mass's front on the bed at t = 0 (the base width on the paper's bed)."""
+        scene = build_scene(self.config.geometry, self.config.gate)
+        on_bed = np.abs(scene.bed.height(scene.mass)) <= 1e-9 * max(scene.size, 1e-9)
+        return float(scene.mass[on_bed, 0].max()) if on_bed.any() else scene.front_x()
+
+    def _start_x(self, xy: np.ndarray) -> float:
+        """Where stations start: the wall x = 0 of the paper's bed, else the mass's left."""
+        scene_default = (self.config.geometry.bed_profile is None
+                         and self.config.geometry.bed_profile_file is None)
+        return 0.0 if scene_default else float(xy[:, 0].min())
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
         """Front, its speed (cells touching the front vertex) and the height at the wall."""
@@ -68,7 +97,7 @@ class ColumnMeasures:
         at_front = np.any(tri == front_vertex, axis=1)
         speed = float(cell_speed[at_front].max())      # cells touching the front vertex
         out = {"front_x": x_front, "front_speed": speed,
-               "wall_height": front_diag.wall_height(xy)}
+               "wall_height": self.wall_height(xy)}
         if self.inertial is not None:
             self._add_inertial_numbers(cell_speed > FLOWING_SPEED)
         if self.layer is not None:
@@ -122,11 +151,12 @@ class ColumnMeasures:
         surface = self.surface()
         out = []
         for dx in SECTION_OFFSETS:
-            x = self.config.geometry.width + dx
+            x = self.initial_front + dx
             top = _highest_crossing(surface, x)
             if top is None:
                 continue
-            z = np.linspace(0.0, top, 41)[:-1] + 1e-9
+            bottom = float(self.current.mover.support.bed.z(x)[0])
+            z = np.linspace(bottom, top, 41)[:-1] + 1e-9
             z, u = point_values(self.current.mesh, self.current.solver.velocity, x, z)
             if len(z):
                 out.append((x, z, u))
@@ -137,8 +167,8 @@ class ColumnMeasures:
         ``io/profiles.py`` writes them."""
         rows = [[x, zi, ui[0], ui[1]] for x, z, u in self.sections()
                 for zi, ui in zip(z, u, strict=True)]
-        stations = np.linspace(
-            0.0, front_diag.front_position(self.current.mesh.ngmesh.Coordinates()), 200)
+        xy = self.current.mesh.ngmesh.Coordinates()
+        stations = np.linspace(self._start_x(xy), front_diag.front_position(xy), 200)
         out = {"free_surface": (["x", "z"], self.surface()),
                "velocity_sections": (["section_x", "z", "u_x", "u_z"], np.array(rows)),
                "interface": (["x", "z"],
@@ -152,7 +182,7 @@ class ColumnMeasures:
         velocity = self.current.solver.velocity
         speed, _ = cell_means(mesh, ngs.Norm(velocity))
         xy = mesh.ngmesh.Coordinates().copy()
-        stations = np.linspace(0.0, xy[:, 0].max(), 120)
+        stations = np.linspace(self._start_x(xy), xy[:, 0].max(), 120)
         return {"t": sim.t, "xy": xy, "tri": triangles(mesh), "speed": speed,
                 "vertex_speed": np.linalg.norm(vertex_samples(mesh, velocity), axis=1),
                 "interface": np.column_stack([stations, self.interface(stations)])}
@@ -167,15 +197,15 @@ class ColumnMeasures:
         return {
             "runout_m": self.front(),
             "runout_1mm_m": front_diag.thick_front(
-                surface, self.config.geometry.erodible_thickness + 1e-3),
+                self.surface_above_bed(), self.config.geometry.erodible_thickness + 1e-3),
             "surface_edge_spread": front_diag.surface_edge_spread(surface),
             "stop_time_s": stop,
             "all_cells_static_s": front_diag.stop_time(h["t"], h["flowing_fraction"]),
             "runout_at_stop_m": float(np.interp(stop, h["t"], h["front_x"])) if stop else None,
             "front_stop_time_s": front_diag.front_stop_time(h["t"], h["front_speed"]),
             "front_settle_time_s": front_diag.settle_time(h["t"], h["front_x"]),
-            "wall_height_m": front_diag.wall_height(xy),
-            **({"axis_height_m": front_diag.wall_height(xy)}      # h_inf of a cylinder
+            "wall_height_m": self.wall_height(xy),
+            **({"axis_height_m": self.wall_height(xy)}      # h_inf of a cylinder
                if self.config.geometry.axisymmetric else {}),
             ("initial_volume_m3" if self.config.geometry.axisymmetric else "initial_area_m2"):
                 mover.initial_area - self.remesher.added,   # what the free-surface fix

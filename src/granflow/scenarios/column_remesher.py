@@ -60,10 +60,12 @@ class ColumnRemesher:
 
     def needs_remesh(self) -> bool:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
-        this domain achieved (a sharp front tip caps the quality any mesh can reach)."""
+        this domain achieved (a sharp front tip caps the quality any mesh can reach); or a
+        bed edge across a corner of the bed profile (the corner made a vertex again)."""
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
         degraded = floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
-        return degraded or self.layer_end_due() is not None
+        return (degraded or self.layer_end_due() is not None
+                or self.current.mover.straddles_corner())
 
     def layer_end_due(self) -> float | None:
         """The meshed layer's new end when material faster than the flowing threshold has
@@ -92,7 +94,7 @@ class ColumnRemesher:
         remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
                           old.mover.measure, layer_end=self.layer_end_due(),
                           layer_top=self.config.geometry.erodible_thickness,
-                          stretch=self.stretch)
+                          stretch=self.stretch, bed=old.mover.support.bed)
         new = discretise(self.config, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
         added = remeshed.area_added
