@@ -73,12 +73,13 @@ def problems(c: Config) -> Iterator[str]:
                    "geometry.kind = 'column' (its free surface must move); "
                    "use 'elastic' (3.6) or 'lagrange' (3.7)")
         yield from _axisymmetric_problems(c)
-        yield from geometry_problems(c)
         builtin = g.mass is None and g.mass_file is None     # (a user's mass: no shape)
         if (builtin and g.shape == "trapezoid"
                 and _front_run(g.height, g.front_angle_deg) >= g.width):
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
+        else:                                   # (the scene is built only from a valid shape)
+            yield from geometry_problems(c)
     st = c.surface_tension
     if st.release_angle_deg > st.trigger_angle_deg:
         yield (f"surface_tension.release_angle_deg = {st.release_angle_deg!r} must not exceed "
