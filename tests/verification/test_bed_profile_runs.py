@@ -46,8 +46,9 @@ def test_a_ten_degree_profile_is_the_slope_run_turned() -> None:
     t = np.array([math.cos(theta), -math.sin(theta)])
     n = np.array([math.sin(theta), math.cos(theta)])
     slope, rs = _run(["time.t_end=0.05", "geometry.slope_deg=10"])
+    end = [2 * float(t[0]), 2 * float(t[1])]
     profile, rp = _run(["time.t_end=0.05",
-                        f"geometry.bed_profile=[[0.0, 0.0], [{2 * float(t[0])!r}, {2 * float(t[1])!r}]]"])
+                        f"geometry.bed_profile=[[0.0, 0.0], [{end[0]!r}, {end[1]!r}]]"])
     assert (rs.steps, rs.nonlinear_iterations) == (rp.steps, rp.nonlinear_iterations)
     xy = profile.mesh.ngmesh.Coordinates()
     turned = np.column_stack([xy @ t, xy @ n])
