@@ -9,6 +9,7 @@ numbers, a fraction of the cost.
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import sys
@@ -148,14 +149,14 @@ def verify_plug_flow(table: int, cells: str, out: Path, progress: bool = True,
                "passed"]
     if table == 2:
         columns += ["volume_error", "paper_volume_error"]
+    text = io.StringIO(newline="")
+    writer = csv.writer(text)
+    writer.writerow(columns)
+    for r in results:
+        writer.writerow([getattr(r, c) if c == "passed" else f"{getattr(r, c):.6g}"
+                         for c in columns])
     path = out / f"table{table}.csv"
-    with open(path.with_suffix(".tmp"), "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(columns)
-        for r in results:
-            writer.writerow([getattr(r, c) if c == "passed" else f"{getattr(r, c):.6g}"
-                             for c in columns])
-    path.with_suffix(".tmp").replace(path)
+    atomic_write_text(path, text.getvalue())
     atomic_write_text(out / f"table{table}.json", json.dumps(
         {"table": table, "cells": cells, "total_wall_time_s": total, "bound_factor": BOUND,
          "results": [asdict(r) | {"passed": r.passed} for r in results]}, indent=2))
