@@ -118,3 +118,25 @@ def test_auto_gamma0_is_pressure_under_the_surface_times_mesh_size() -> None:
     xy[chain[2], 1] = 0.99
     tension.update([chain], lambda v: 300.0)
     assert tension.state.gamma0 == pytest.approx(30.0)
+
+
+def test_auto_gamma0_is_held_while_the_tension_pulls_the_pressure_below_zero() -> None:
+    """An acting tension whose own pull leaves no positive pressure under the fold keeps its
+    gamma0 (set to 0 it switched off, the pressure came back, it switched on: every other
+    step, over a layer stronger than the column); a tension switching on over a pressure
+    <= 0 has gamma0 = 0, as before."""
+    tension, mesh = _tension(trigger_deg=60, gamma0="auto")
+    xy = mesh.ngmesh.Coordinates()
+    chain = _top_chain(mesh)
+    xy[chain[2], 1] = 0.8
+    gammas = []
+    for pressure in (300.0, -50.0, 0.0, 200.0):
+        tension.update([chain], lambda v, p=pressure: p)
+        gammas.append(tension.state.gamma0)
+    assert gammas == pytest.approx([30.0, 30.0, 30.0, 20.0])
+    assert np.any(tension.field.vec.FV().NumPy())
+    fresh, mesh = _tension(trigger_deg=60, gamma0="auto")
+    chain = _top_chain(mesh)
+    mesh.ngmesh.Coordinates()[chain[2], 1] = 0.8
+    fresh.update([chain], lambda v: -50.0)
+    assert fresh.state.active and fresh.state.gamma0 == 0.0

@@ -105,7 +105,8 @@ class SurfaceTension:
         values[:] = 0.0
         xy = self.field.space.mesh.ngmesh.Coordinates()
         chains = [c for c in chains if len(c) >= 3]
-        threshold = self.release if self.state.active else self.trigger
+        was_active = self.state.active
+        threshold = self.release if was_active else self.trigger
         self.state.active = False
         if not chains:
             return
@@ -118,8 +119,15 @@ class SurfaceTension:
         chain, c = chains[k], curv[k]
         critical = int(np.argmax(c))
         profile = tension_profile(len(chain), critical, self.delta)
-        gamma0 = (max(pressure_under(chain[profile > 0]), 0.0) * self.mesh_size
-                  if self.gamma0 == "auto" else float(self.gamma0))
+        if self.gamma0 == "auto":
+            under = pressure_under(chain[profile > 0])
+            # Under an acting tension a pressure <= 0 is the tension's own pull, not the
+            # absence of load: keep its last gamma0 (a gamma0 set to 0 there switches the
+            # tension off, the pressure comes back and it switches on: every other step).
+            held = self.state.gamma0 if was_active else 0.0
+            gamma0 = under * self.mesh_size if under > 0 else held
+        else:
+            gamma0 = float(self.gamma0)
         values[chain] = gamma0 * profile * c
         self.state.active = True
         self.state.critical_x = float(xy[chain[critical], 0])
