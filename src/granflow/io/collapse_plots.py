@@ -1,8 +1,8 @@
 """Figures of a collapse run, like the paper's (Figures 7-9, 12-15), and its animation, drawn
 from the run directory's files through their readers (profiles, fields, diagnostics,
 frames): free surfaces, the static and flowing zones, velocity sections with where they
-are, the front and the kinetic energy (remeshes and the stop marked), the erosion figure
-over a layer (``io/erosion_plots.py``) and ``speed.gif`` (``io/animation.py``).
+are, the front and the kinetic energy (remeshes and the stop marked) and ``speed.gif``
+(``io/animation.py``); an erodible layer draws its own (``io/erosion_plots.py``).
 
 Only output times the run reached are drawn; the last accepted state is drawn once, named
 for what it is ("at rest from t = ..." for a mass at rest, the status of a run that failed).
@@ -29,7 +29,6 @@ from granflow.geometry.sources import GeometryError  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
-from granflow.io.erosion_plots import plot_erosion  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
@@ -131,8 +130,6 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     _zones(view)
     _sections(view)
     _history(view)
-    if config.geometry.erodible_thickness > 0:
-        plot_erosion(run_dir, config, view.fmt)
     frames = read_frames(run_dir.root)
     if frames:
         animate(run_dir.path("plots/speed.gif"), frames, view.outline,
