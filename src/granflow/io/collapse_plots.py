@@ -25,6 +25,7 @@ from matplotlib.patches import Patch  # noqa: E402
 from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.geometry.domains import column  # noqa: E402
 from granflow.geometry.scene import build_scene  # noqa: E402
+from granflow.geometry.section import Section  # noqa: E402
 from granflow.geometry.sources import GeometryError  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
@@ -56,8 +57,9 @@ class View:
 
     def __post_init__(self) -> None:
         g = self.config.geometry
-        self.x = "r" if g.axisymmetric else "x"          # the radius of a cylinder
-        self.bed = _bed_note(g.slope_deg, g.axisymmetric)
+        self.section = Section(g.axisymmetric)
+        self.x = self.section.coordinate                  # the radius of a cylinder
+        self.bed = _bed_note(g.slope_deg, self.section)
         self.outline = initial_outline(self.config)
         self.bed_line = bed_line(self.config)      # None: the level bed z = 0
         self.final = final_state(self.run_dir, self.summary)
@@ -285,8 +287,8 @@ def _history(view: View) -> None:
     a1.plot(diag["t"], diag["front_x"], color="C0")
     a1.set(xlabel="t (s)", ylabel=f"front {view.x} (m)", title=f"Front position{view.bed}")
     a2.plot(diag["t"], diag["kinetic_energy"], color="C0")
-    energy = "J" if view.config.geometry.axisymmetric else "J/m"   # whole body, per metre
-    a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
+    a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({view.section.energy_unit})",
+           title="Kinetic energy")
     handles = []
     for name, colour, style, words in (
             ("remesh", "0.5", ":", "velocity carried to a new mesh"),
@@ -310,11 +312,11 @@ def _history(view: View) -> None:
     view.fmt.save(fig, view.run_dir, "front_and_energy")
 
 
-def _bed_note(slope_deg: float, axisymmetric: bool = False) -> str:
+def _bed_note(slope_deg: float, section: Section) -> str:
     """Words for a title: x runs along the bed, which is inclined on a slope; or the
     section of a cylinder, r from its axis."""
-    if axisymmetric:
-        return " (axisymmetric: r from the axis)"
+    if section.axisymmetric:
+        return section.note
     return f" (x along the bed, inclined at {slope_deg:g}°)" if slope_deg else ""
 
 

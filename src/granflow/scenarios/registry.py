@@ -1,19 +1,20 @@
 """The problem kinds (``geometry.kind``): each registers its builder and its figures here,
-``register("column", build_column, figures=...)`` at the end of its module, and the runner
-and ``granflow plot`` find them by name; neither asks which kind a run is.
+``register("column", build_column, figures=...)`` at the end of its module, and the runner,
+``granflow resume`` and ``granflow plot`` find them by name; none asks which kind a run is.
 
 A builder returns a ``Problem``: its mesh, its flow solver and its time loop, whose named
 callbacks (``simulation/outputs.py``) declare every output. A figure is drawn from the run
 directory's files alone (``granflow plot`` builds no problem) and draws nothing when the
 files it reads are not there (a layer's figure in a run without a layer).
 
-A new kind: its modules (the builder, the parts that measure it) in a folder of their own,
-its ``register`` call there, and one import in ``_load_built_in`` below; its configuration
-keys go to ``config/`` as any parameter's.
+A new kind: its modules (the builder, the parts that measure it) under ``scenarios/``, its
+``register`` call there, its module in ``BUILT_IN`` and its name among the values of
+``geometry.kind``; its configuration keys go to ``config/`` as any parameter's.
 """
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -64,9 +65,13 @@ def register(name: str, build: Builder, figures: Sequence[Figure] = ()) -> Probl
     return kind
 
 
+BUILT_IN = ("granflow.scenarios.column", "granflow.scenarios.plug_flow")
+
+
 def _load_built_in() -> None:
-    """Import the built-in kinds: each module registers its own."""
-    from granflow.scenarios import column, plug_flow  # noqa: F401
+    """Import the built-in kinds' modules: each registers its own."""
+    for module in BUILT_IN:
+        importlib.import_module(module)
 
 
 def problem_kind(name: str) -> ProblemKind:
