@@ -39,7 +39,13 @@ from granflow.io.frames import AnimationFrames
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 from granflow.scenarios.registry import Problem, build_problem, draw_figures
-from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
+from granflow.simulation.callbacks import (
+    AtTimes,
+    EveryNSteps,
+    ProgressBar,
+    TimeInterval,
+    add_callback,
+)
 from granflow.simulation.simulation import RunResult, Simulation
 
 __all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_problem",
@@ -109,9 +115,9 @@ def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[
 
 
 class _Run:
-    """One run's files wired to its loop: each is an observer on a schedule and gives its
-    share of the checkpoint (``save_state``); what they hold of the problem comes from the
-    simulation's callbacks."""
+    """One run's files wired to its loop: each is a named callback on a schedule, after
+    the problem's parts, and gives its share of the checkpoint (``save_state``); what they
+    hold of the problem is what those parts declare."""
 
     def __init__(self, config: Config, run_dir: RunDir, problem: Problem, progress: bool,
                  resume: SimulationState | None) -> None:
@@ -135,8 +141,6 @@ class _Run:
         if resume is not None:   # those still ahead (the configuration may have changed them)
             self.at_times.pending = [x for x in config.time.output_times
                                      if x > sim.t + 1e-9 * max(1.0, x)]
-        observers = [self._record, self.bar, self.at_times,
-                     EveryNSteps(config.output.vtk_every, lambda s: self.fields.write(s.t))]
         source = callbacks.frame_source()
         self.frames = (AnimationFrames(run_dir, source.frame, saved)
                        if source is not None else None)
@@ -144,11 +148,17 @@ class _Run:
                           if self.frames is not None else None)
         if self.animation is not None:
             self.animation.next = (saved or {}).get("animation_next", self.animation.next)
-            observers.append(self.animation)
-        sim.observers = [*sim.observers, *observers]
+        # the files, after the problem's parts (they read the advanced state)
+        add_callback(sim, self._record, "diagnostics")
+        add_callback(sim, self.bar, "progress")
+        add_callback(sim, self.at_times, "output_times")
+        add_callback(sim, lambda s: self.fields.write(s.t), "fields",
+                     schedule=EveryNSteps(config.output.vtk_every))
+        if self.animation is not None:
+            add_callback(sim, self.animation, "animation")
         sim.checkpoint, sim.checkpoint_every = self.checkpoint, config.output.checkpoint_every
 
-    # --- observers ----------------------------------------------------------------------
+    # --- callbacks ----------------------------------------------------------------------
     def _record(self, s: Simulation) -> None:
         """One diagnostics row per accepted step."""
         problem = self.problem

@@ -6,7 +6,7 @@ runs along the bed and the state, uniform along it, needs nothing across the per
 the transport treats them as walls).
 
 The step is applied once, whichever comes first after it is accepted: a remesh (before the
-state moves to the new mesh, on the mesh the step was computed on) or this observer. The
+state moves to the new mesh, on the mesh the step was computed on) or this callback. The
 stretch of erodible layer a remesh adds ahead of the flow (``mesh.layer_ahead``) has been at
 rest since t = 0: its state is the layer's initial one relaxed for t at rest,
 s0 exp(-t / tau_r).

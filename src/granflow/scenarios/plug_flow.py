@@ -40,7 +40,7 @@ class PlugFlow:
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
     mobilisation: MobilisationField | None = None     # a hysteretic friction's state
-    tracking: MobilisationTracking | None = None      # ... and its observer
+    tracking: MobilisationTracking | None = None      # ... and its callback
 
     @property
     def steep(self) -> bool:

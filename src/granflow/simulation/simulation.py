@@ -1,9 +1,10 @@
 """The time loop: mesh velocity -> move -> nonlinear solve -> accept/reject (section 3.3).
 
 It owns the stop criteria and says why it stopped; after each accepted step it runs its
-named callbacks (``simulation.callbacks[name]``, ``simulation/callbacks.py``): the parts of
-the problem that carry state along (an erodible layer, a mobilisation state) and the outputs
-that read it. It knows no file format and no finite-element engine:
+named callbacks (``simulation.callbacks[name]``, ``simulation/callbacks.py``), in the order
+they were added: the parts of the problem that carry state along (an erodible layer, a
+mobilisation state), then the run's files that read it; then the unnamed ``observers`` of a
+script. It knows no file format and no finite-element engine:
 the solver, the mesh motion and the remesher are protocols (``FlowStep``, ``MeshMotion``,
 ``Remesher``), so the loop imports and runs without NGSolve.
 
