@@ -13,7 +13,7 @@ from PIL import Image
 
 import granflow
 from granflow.io.frames import read_frames
-from granflow.io.replot import plot_run
+from granflow.scenarios.registry import plot_run
 
 SMALL = {"geometry.width": 0.1, "geometry.height": 0.1, "mesh.size": 0.025,
          "time.rest_fraction": 0.02, "time.t_end": 1.0, "time.output_times": [0.1, 0.9],

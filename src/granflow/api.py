@@ -237,7 +237,7 @@ class RunPlots:
     def all(self, figure_format: str | None = None, dpi: int | None = None) -> list[Path]:
         """Every figure of the run again, into RUN_DIR/plots, in the run's format or in
         ``figure_format`` ("png", "pdf", "svg") at ``dpi``; returns the files."""
-        from granflow.io.replot import plot_run
+        from granflow.scenarios.registry import plot_run
 
         return plot_run(self._run.root, figure_format, dpi)
 

@@ -350,7 +350,7 @@ def _converge(args: argparse.Namespace) -> int:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from granflow.io.replot import plot_run
+    from granflow.scenarios.registry import plot_run
 
     try:
         written = plot_run(args.run_dir, args.figure_format, args.dpi)

@@ -1,11 +1,16 @@
 """Runs a configured scenario into a run directory (its layout: docs/user_guide.md).
 
-The runner builds the problem, attaches the outputs to its time loop as named observers on
-schedules (each output owns its file and its reader: ``io/diagnostics.py``,
-``io/profiles.py``, ``io/fields.py``, ``io/frames.py``, ``io/checkpoint.py``), writes
-``summary.json`` at the start (``running``) and at the end, also when the run fails or is
-interrupted: whatever was written before stays readable, and ``granflow resume`` continues
-from the checkpoint. Figures are drawn last, from the files, by ``io/replot.py``.
+The runner builds the problem by its kind (``scenarios/registry.py``) and attaches the
+files to its time loop on schedules (each file owns its writer and its reader:
+``io/diagnostics.py``, ``io/profiles.py``, ``io/fields.py``, ``io/frames.py``,
+``io/checkpoint.py``). What goes into them beside the loop's own measures it gathers by
+walking the simulation's named callbacks (``simulation.callbacks``,
+``simulation/outputs.py``): each part of the problem declares its diagnostics columns,
+profiles, cell data, animation frames and summary members, and the runner never asks what
+the problem is. It writes ``summary.json`` at the start (``running``) and at the end, also
+when the run fails or is interrupted: whatever was written before stays readable, and
+``granflow resume`` continues from the checkpoint. Figures are drawn last, from the files,
+by the problem kind's figures.
 """
 
 from __future__ import annotations
@@ -16,14 +21,12 @@ import signal
 import threading
 import traceback
 from collections.abc import Iterator
-from typing import Any, Protocol
+from typing import Any
 
 import ngsolve as ngs
-import numpy as np
 
 from granflow.config import Config
 from granflow.diagnostics.state import state_measures
-from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import solver_in_use
 from granflow.fem.sampling import cell_means
 from granflow.io import profiles
@@ -33,49 +36,28 @@ from granflow.io.diagnostics import DiagnosticsLog
 from granflow.io.fields import FieldSnapshots
 from granflow.io.frames import INTERVAL_S as ANIMATION_INTERVAL_S
 from granflow.io.frames import AnimationFrames
-from granflow.io.replot import draw_figures
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
-from granflow.scenarios.materials import hysteretic
-from granflow.simulation.callbacks import AtTimes, EveryNSteps, ProgressBar, TimeInterval
+from granflow.scenarios.registry import Problem, build_problem, draw_figures
+from granflow.simulation.callbacks import (
+    AtTimes,
+    EveryNSteps,
+    ProgressBar,
+    TimeInterval,
+    add_callback,
+)
 from granflow.simulation.simulation import RunResult, Simulation
 
 __all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_problem",
            "run_simulation"]
 
-Table = tuple[list[str], np.ndarray]   # column names, rows of a profile
 EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME_times_s)
 
 
-class Problem(Protocol):
-    """What a scenario builder hands to the runner (``frame`` is optional: an animation)."""
-
-    mesh: ngs.Mesh
-    solver: FlowSolver
-    simulation: Simulation
-
-    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]: ...
-    def record(self, row: dict[str, float]) -> None: ...
-    def profiles(self, t: float) -> dict[str, Table]: ...
-    def summary(self, result: RunResult) -> dict[str, Any]: ...
-    def save_state(self) -> dict[str, Any]: ...
-    def restore_state(self, state: dict[str, Any]) -> None: ...
-
-
-def build_problem(config: Config) -> Problem:
-    """Scenario builder for ``geometry.kind``."""
-    if config.geometry.kind == "periodic-layer":
-        from granflow.scenarios.plug_flow import build_plug_flow
-
-        return build_plug_flow(config)
-    from granflow.scenarios.column import build_column
-
-    return build_column(config)
-
-
 def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = False) -> None:
-    """The problem's profiles at time ``t`` (or of the last state) into profiles/."""
-    for kind, (columns, rows) in problem.profiles(t).items():
+    """The profiles its callbacks declare at time ``t`` (or of the last state) into
+    profiles/."""
+    for kind, (columns, rows) in problem.simulation.callbacks.profiles(t).items():
         profiles.write_profile(run_dir, kind, t, columns, rows, final=final)
 
 
@@ -133,8 +115,9 @@ def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[
 
 
 class _Run:
-    """One run's outputs wired to its loop: each output is a named observer on a schedule
-    and gives its share of the checkpoint (``save_state``)."""
+    """One run's files wired to its loop: each is a named callback on a schedule, after
+    the problem's parts, and gives its share of the checkpoint (``save_state``); what they
+    hold of the problem is what those parts declare."""
 
     def __init__(self, config: Config, run_dir: RunDir, problem: Problem, progress: bool,
                  resume: SimulationState | None) -> None:
@@ -145,10 +128,9 @@ class _Run:
         self.volume0 = (saved or {}).get("volume0") or state_measures(
             problem.mesh, problem.solver.velocity, problem.solver.density,
             coords=problem.solver.coordinates)["volume"]
-        self.diagnostics = DiagnosticsLog(run_dir, saved, layer=(
-            config.geometry.kind == "column" and config.geometry.erodible_thickness > 0),
-            mobilisation=hysteretic(config))
-        self.fields = FieldSnapshots(run_dir, problem, saved)
+        callbacks = sim.callbacks
+        self.diagnostics = DiagnosticsLog(run_dir, saved, columns=callbacks.columns())
+        self.fields = FieldSnapshots(run_dir, problem, saved, cell_data=callbacks.fields)
         # when the mesh was replaced and when a surface node landed on the bed (the figures
         # mark them: each changes the kinetic energy at once)
         self.events = {name: [float(t) for t in (saved or {}).get(f"{name}_times", [])
@@ -159,19 +141,24 @@ class _Run:
         if resume is not None:   # those still ahead (the configuration may have changed them)
             self.at_times.pending = [x for x in config.time.output_times
                                      if x > sim.t + 1e-9 * max(1.0, x)]
-        observers = [self._record, self.bar, self.at_times,
-                     EveryNSteps(config.output.vtk_every, lambda s: self.fields.write(s.t))]
-        frame = getattr(problem, "frame", None)
-        self.frames = AnimationFrames(run_dir, frame, saved) if frame is not None else None
+        source = callbacks.frame_source()
+        self.frames = (AnimationFrames(run_dir, source.frame, saved)
+                       if source is not None else None)
         self.animation = (TimeInterval(ANIMATION_INTERVAL_S, self.frames.write)
                           if self.frames is not None else None)
         if self.animation is not None:
             self.animation.next = (saved or {}).get("animation_next", self.animation.next)
-            observers.append(self.animation)
-        sim.observers = [*sim.observers, *observers]
+        # the files, after the problem's parts (they read the advanced state)
+        add_callback(sim, self._record, "diagnostics")
+        add_callback(sim, self.bar, "progress")
+        add_callback(sim, self.at_times, "output_times")
+        add_callback(sim, lambda s: self.fields.write(s.t), "fields",
+                     schedule=EveryNSteps(config.output.vtk_every))
+        if self.animation is not None:
+            add_callback(sim, self.animation, "animation")
         sim.checkpoint, sim.checkpoint_every = self.checkpoint, config.output.checkpoint_every
 
-    # --- observers ----------------------------------------------------------------------
+    # --- callbacks ----------------------------------------------------------------------
     def _record(self, s: Simulation) -> None:
         """One diagnostics row per accepted step."""
         problem = self.problem
@@ -180,11 +167,11 @@ class _Run:
                "linear_solves": report.linear_solves,
                "local_error": estimate.error if estimate is not None else math.nan}
         speed = cell_means(problem.mesh, ngs.Norm(problem.solver.velocity))  # once per step
-        row |= problem.shape_measures(speed[0])
+        row |= s.callbacks.diagnostics(s, speed[0])
         row |= state_measures(problem.mesh, problem.solver.velocity, problem.solver.density,
                               speed, problem.solver.coordinates)
         self.diagnostics.write(row)
-        problem.record(row)
+        s.callbacks.record(row)
         counts = _event_counts(problem)
         for name, count in counts.items():
             if count > self.events_seen[name]:
@@ -268,7 +255,7 @@ class _Run:
             "n_dofs": solver.space.ndof,
             "resumed": self.resumed,
         }
-        summary |= problem.summary(result)
+        summary |= sim.callbacks.summary(result)
         run_dir.write_json("summary.json", summary)
         self.bar.say(f"drawing the figures into {run_dir.path('plots')}")
         try:

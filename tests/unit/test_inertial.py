@@ -43,7 +43,7 @@ def test_a_mu_i_collapse_records_the_inertial_numbers_of_its_flowing_cells() -> 
     assert problem.simulation.run().status == "completed"
     assert problem.inertial is not None and problem.inertial.summary() is None  # no observer
     solver = problem.solver
-    problem.shape_measures(cell_means(problem.mesh, solver.velocity.Norm())[0])
+    problem.measures.shape_measures(cell_means(problem.mesh, solver.velocity.Norm())[0])
     law = solver.rheology
     values, _ = cell_means(problem.mesh, law.inertial_number(
         math.sqrt(2.0) * solver.strain_rate_norm(), solver.pressure, NGSOLVE_OPS))

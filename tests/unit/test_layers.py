@@ -1,22 +1,37 @@
-"""The layers of docs/architecture.md, read from the code: every import of a granflow module
-points to its own layer or one below, and the packages import one another without a
-cycle."""
+"""The layers of docs/architecture.md, read from the page and checked against the code:
+every import of a granflow module points to its own layer or one below, the packages import
+one another without a cycle, and the engine-free packages import no finite-element engine."""
 
 from __future__ import annotations
 
 import ast
+import re
+import subprocess
+import sys
 from pathlib import Path
 
-SOURCE = Path(__file__).resolve().parents[2] / "src" / "granflow"
-LAYERS = [   # top to bottom, as the architecture page lists them
-    ["cli", "converge", "convergence_report", "sweep", "api", "resuming", "verify", "runner",
-     "__main__", "__init__"],
-    ["scenarios", "io", "studies"],
-    ["diagnostics", "ale"],
-    ["fem"],
-    ["simulation", "reference"],
-    ["config", "physics", "geometry", "data"],
-]
+ROOT = Path(__file__).resolve().parents[2]
+SOURCE = ROOT / "src" / "granflow"
+ENGINES = ("ngsolve", "netgen")
+ENGINE_FREE = ("physics", "config", "simulation", "reference")   # the page's words
+MESHER = "geometry/mesh.py"      # the one module of geometry/ that meshes with Netgen
+
+
+def page_layers() -> list[list[str]]:
+    """The packages and modules of each row of the page's layer table, top to bottom."""
+    text = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    table = text.split("| layer | package or module | what it holds |", 1)[1]
+    rows = []
+    for line in table.splitlines()[2:]:
+        if not line.startswith("|"):
+            break
+        cell = line.split("|")[2]
+        rows.append([name.removesuffix("/").removesuffix(".py")
+                     for name in re.findall(r"`([^`]+)`", cell)])
+    return rows
+
+
+LAYERS = page_layers()
 RANK = {name: i for i, names in enumerate(LAYERS) for name in names}
 
 
@@ -26,19 +41,32 @@ def package(module: str) -> str:
     return parts[1] if len(parts) > 1 else "__init__"
 
 
+def imported(path: Path) -> list[str]:
+    """Every module the file imports, at its top or inside a function."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.level == 0:
+            out.append(node.module or "")
+        elif isinstance(node, ast.Import):
+            out += [a.name for a in node.names]
+    return out
+
+
 def imports() -> list[tuple[str, str, str]]:
     """(importing file, its package, imported package) for every granflow import."""
     out = []
     for path in SOURCE.rglob("*.py"):
-        parts = path.relative_to(SOURCE).with_suffix("").parts
-        mine = parts[0]
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("granflow"):
-                out.append((str(path.relative_to(SOURCE)), mine, package(node.module or "")))
-            elif isinstance(node, ast.Import):
-                out += [(str(path.relative_to(SOURCE)), mine, package(a.name))
-                        for a in node.names if a.name.startswith("granflow")]
+        mine = path.relative_to(SOURCE).with_suffix("").parts[0]
+        out += [(str(path.relative_to(SOURCE)), mine, package(name))
+                for name in imported(path) if name.split(".")[0] == "granflow"]
     return out
+
+
+def test_the_page_lists_the_layers() -> None:
+    """The table is read: six layers, the loop below the finite elements."""
+    assert len(LAYERS) == 6
+    assert RANK["runner"] == 0 and RANK["scenarios"] == RANK["io"] == 1
+    assert RANK["fem"] < RANK["simulation"] < RANK["physics"]
 
 
 def test_every_package_has_a_layer() -> None:
@@ -66,3 +94,29 @@ def test_packages_import_one_another_without_a_cycle() -> None:
 
     cycles = [p for p in graph if reaches(p, p, {p})]
     assert cycles == []
+
+
+def test_engine_free_packages_import_no_finite_element_engine() -> None:
+    """physics/, config/, simulation/ and reference/ name neither NGSolve nor Netgen in any
+    import; in geometry/ only the mesher does."""
+    users = sorted(str(p.relative_to(SOURCE)) for p in SOURCE.rglob("*.py")
+                   if any(name.split(".")[0] in ENGINES for name in imported(p)))
+    assert "fem/flow.py" in users                       # the walk sees the engine's users
+    assert [f for f in users if f.split("/")[0] in ENGINE_FREE] == []
+    assert [f for f in users if f.startswith("geometry/")] == [MESHER]
+
+
+def test_engine_free_packages_import_with_the_engine_blocked() -> None:
+    """Every module of those packages imports, with whatever granflow module it imports in
+    turn, while any import of NGSolve or Netgen raises."""
+    modules = sorted(".".join(("granflow", *p.relative_to(SOURCE).with_suffix("").parts))
+                     .removesuffix(".__init__")
+                     for pkg in ENGINE_FREE for p in (SOURCE / pkg).rglob("*.py"))
+    script = "\n".join(["import importlib, sys",
+                        *(f"sys.modules[{e!r}] = None" for e in ENGINES),
+                        f"for m in {modules!r}: importlib.import_module(m)",
+                        "print(len(sys.modules))"])
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert len(modules) > 20

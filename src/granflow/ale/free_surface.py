@@ -14,6 +14,14 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from granflow.geometry.mesh import BED, END, LABELS, SURFACE, WALL
+from granflow.geometry.section import (  # noqa: F401  (also read from here)
+    PLANE_SECTION,
+    REVOLVED_SECTION,
+    area_gradient,
+    polygon_area,
+    revolved_volume,
+    revolved_volume_gradient,
+)
 
 LONG = 4.0   # segments_intersect: segments longer than this x the median are paired with all
 
@@ -122,43 +130,6 @@ def pairs_cross(xy: np.ndarray, segments: np.ndarray, i: np.ndarray, j: np.ndarr
     return bool(np.any((r[0] * r[1] < 0) & (s[0] * s[1] < 0)))
 
 
-def area_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """d(area)/d(vertex position): half the sum of the outward normals x lengths around it."""
-    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
-    d = q - p
-    normal_len = np.column_stack([d[:, 1], -d[:, 0]])   # outward for a counter-clockwise loop
-    grad = np.zeros_like(xy)
-    np.add.at(grad, segments[:, 0], 0.5 * normal_len)
-    np.add.at(grad, segments[:, 1], 0.5 * normal_len)
-    return grad
-
-
-def polygon_area(xy: np.ndarray, segments: np.ndarray) -> float:
-    """Area enclosed by the oriented boundary segments (shoelace)."""
-    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
-    return float(0.5 * np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
-
-
-def revolved_volume(xy: np.ndarray, segments: np.ndarray) -> float:
-    """Volume of the solid swept by the polygon turning about the axis x = 0: 2 pi times
-    its first moment, int x dA = sum (x_p + x_q)(x_p z_q - x_q z_p) / 6 over the edges."""
-    p, q = xy[segments[:, 0]], xy[segments[:, 1]]
-    cross = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
-    return float(2.0 * np.pi * np.sum((p[:, 0] + q[:, 0]) * cross) / 6.0)
-
-
-def revolved_volume_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """d(revolved volume)/d(vertex position), edge by edge from ``revolved_volume``."""
-    i, j = segments[:, 0], segments[:, 1]
-    (xp, zp), (xq, zq) = xy[i].T, xy[j].T
-    cross, s = xp * zq - xq * zp, xp + xq
-    c = 2.0 * np.pi / 6.0
-    grad = np.zeros_like(xy)
-    np.add.at(grad, i, c * np.column_stack([cross + s * zq, -s * xq]))
-    np.add.at(grad, j, c * np.column_stack([cross - s * zp, s * xp]))
-    return grad
-
-
 @dataclass(frozen=True)
 class PolygonMeasure:
     """What the free-surface fixes conserve: the section's area in plane strain, the
@@ -169,9 +140,8 @@ class PolygonMeasure:
     gradient: Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
-AREA = PolygonMeasure(lambda xy, seg: polygon_area(xy, seg),
-                      lambda xy, seg: area_gradient(xy, seg))
-REVOLVED = PolygonMeasure(revolved_volume, revolved_volume_gradient)
+AREA = PolygonMeasure(PLANE_SECTION.polygon, PLANE_SECTION.polygon_gradient)
+REVOLVED = PolygonMeasure(REVOLVED_SECTION.polygon, REVOLVED_SECTION.polygon_gradient)
 
 
 def polygon_measure(axisymmetric: bool) -> PolygonMeasure:

@@ -8,6 +8,7 @@ import numpy as np
 
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import signed_areas
+from granflow.geometry.section import Section
 
 
 def mesh_area(mesh: ngs.Mesh) -> float:
@@ -23,7 +24,7 @@ def mesh_volume(mesh: ngs.Mesh, axisymmetric: bool) -> float:
         return mesh_area(mesh)
     xy = mesh.ngmesh.Coordinates()
     centroid_r = xy[triangles(mesh), 0].mean(axis=1)
-    return float(2.0 * np.pi * np.sum(signed_areas(mesh) * centroid_r))
+    return Section(axisymmetric=True).triangles(signed_areas(mesh), centroid_r)
 
 
 def relative_error(value: float, reference: float) -> float:

@@ -1,4 +1,5 @@
-"""Plane strain or axisymmetry: the only place that knows which.
+"""Plane strain or axisymmetry in the weak forms (the section's measures, names and units:
+``geometry/section.py``, which ``Coordinates`` extends).
 
 Plane strain, coordinates (x, z): the weak forms integrate over the section with dx and ds,
 Du = (grad u + grad u^T) / 2 is 2 x 2 and div u = d_x u_x + d_z u_z (2.1).
@@ -25,18 +26,17 @@ before axisymmetry existed, so plane results are unchanged to the last digit.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import ngsolve as ngs
 
+from granflow.geometry.section import TWO_PI, Section
+
 
 @dataclass(frozen=True)
-class Coordinates:
+class Coordinates(Section):
     """Plane strain (``axisymmetric=False``) or axisymmetric r-z coordinates."""
-
-    axisymmetric: bool = False
 
     def dx(self, integrand: ngs.CoefficientFunction, **kwargs: Any) -> ngs.SumOfIntegrals:
         """integrand dx over the section, times r in axisymmetry."""
@@ -99,8 +99,8 @@ class Coordinates:
             return float(ngs.Integrate(integrand, mesh, order=order))
         weighted = ngs.x * integrand
         if order is None:
-            return 2.0 * math.pi * float(ngs.Integrate(weighted, mesh))
-        return 2.0 * math.pi * float(ngs.Integrate(weighted, mesh, order=order + 1))
+            return TWO_PI * float(ngs.Integrate(weighted, mesh))
+        return TWO_PI * float(ngs.Integrate(weighted, mesh, order=order + 1))
 
 
 PLANE = Coordinates(axisymmetric=False)

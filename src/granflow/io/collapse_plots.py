@@ -1,8 +1,8 @@
 """Figures of a collapse run, like the paper's (Figures 7-9, 12-15), and its animation, drawn
 from the run directory's files through their readers (profiles, fields, diagnostics,
 frames): free surfaces, the static and flowing zones, velocity sections with where they
-are, the front and the kinetic energy (remeshes and the stop marked), the erosion figure
-over a layer (``io/erosion_plots.py``) and ``speed.gif`` (``io/animation.py``).
+are, the front and the kinetic energy (remeshes and the stop marked) and ``speed.gif``
+(``io/animation.py``); an erodible layer draws its own (``io/erosion_plots.py``).
 
 Only output times the run reached are drawn; the last accepted state is drawn once, named
 for what it is ("at rest from t = ..." for a mass at rest, the status of a run that failed).
@@ -25,11 +25,11 @@ from matplotlib.patches import Patch  # noqa: E402
 from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.geometry.domains import column  # noqa: E402
 from granflow.geometry.scene import build_scene  # noqa: E402
+from granflow.geometry.section import Section  # noqa: E402
 from granflow.geometry.sources import GeometryError  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
-from granflow.io.erosion_plots import plot_erosion  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
@@ -57,8 +57,9 @@ class View:
 
     def __post_init__(self) -> None:
         g = self.config.geometry
-        self.x = "r" if g.axisymmetric else "x"          # the radius of a cylinder
-        self.bed = _bed_note(g.slope_deg, g.axisymmetric)
+        self.section = Section(g.axisymmetric)
+        self.x = self.section.coordinate                  # the radius of a cylinder
+        self.bed = _bed_note(g.slope_deg, self.section)
         self.outline = initial_outline(self.config)
         self.bed_line = bed_line(self.config)      # None: the level bed z = 0
         self.final = final_state(self.run_dir, self.summary)
@@ -131,8 +132,6 @@ def plot_collapse(run_dir: RunDir, config: Any) -> None:
     _zones(view)
     _sections(view)
     _history(view)
-    if config.geometry.erodible_thickness > 0:
-        plot_erosion(run_dir, config, view.fmt)
     frames = read_frames(run_dir.root)
     if frames:
         animate(run_dir.path("plots/speed.gif"), frames, view.outline,
@@ -288,8 +287,8 @@ def _history(view: View) -> None:
     a1.plot(diag["t"], diag["front_x"], color="C0")
     a1.set(xlabel="t (s)", ylabel=f"front {view.x} (m)", title=f"Front position{view.bed}")
     a2.plot(diag["t"], diag["kinetic_energy"], color="C0")
-    energy = "J" if view.config.geometry.axisymmetric else "J/m"   # whole body, per metre
-    a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({energy})", title="Kinetic energy")
+    a2.set(xlabel="t (s)", ylabel=f"kinetic energy ({view.section.energy_unit})",
+           title="Kinetic energy")
     handles = []
     for name, colour, style, words in (
             ("remesh", "0.5", ":", "velocity carried to a new mesh"),
@@ -313,11 +312,11 @@ def _history(view: View) -> None:
     view.fmt.save(fig, view.run_dir, "front_and_energy")
 
 
-def _bed_note(slope_deg: float, axisymmetric: bool = False) -> str:
+def _bed_note(slope_deg: float, section: Section) -> str:
     """Words for a title: x runs along the bed, which is inclined on a slope; or the
     section of a cylinder, r from its axis."""
-    if axisymmetric:
-        return " (axisymmetric: r from the axis)"
+    if section.axisymmetric:
+        return section.note
     return f" (x along the bed, inclined at {slope_deg:g}°)" if slope_deg else ""
 
 

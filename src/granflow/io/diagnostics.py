@@ -3,8 +3,9 @@
 Columns: t (s), dt (s), iterations, front_x (m), wall_height (m), volume (m^2 per metre of
 width), kinetic_energy (J/m), max_speed (m/s), flowing_fraction, linear_solves,
 local_error, tension_on, tension_x (m), area_correction, remesh_area_change (relative);
-over an erodible layer also the entrainment columns ``LAYER_COLUMNS`` (areas in m^2 per
-metre, positions and depth in m, the area drift relative; ``scenarios/column_layer.py``);
+then the columns the problem's parts declare (``simulation/outputs.py``), in the order they
+were added to the loop: over an erodible layer the entrainment columns (areas in m^2 per
+metre, positions and depth in m, the area drift relative; ``scenarios/column_layer.py``),
 with a hysteretic friction ``mobilised_fraction``, the mean mobilisation of the mass
 (``scenarios/mobilisation.py``).
 In an axisymmetric run front_x is the radius r (m), volume is the volume of revolution (m^3)
@@ -17,7 +18,7 @@ from __future__ import annotations
 import io
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -32,24 +33,21 @@ COLUMNS = ["t", "dt", "iterations", "front_x", "wall_height", "volume",
            "kinetic_energy", "max_speed", "flowing_fraction", "linear_solves",
            "local_error", "tension_on", "tension_x", "area_correction",
            "remesh_area_change"]
-LAYER_COLUMNS = ["layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
-                 "column_front_x", "erosion_depth_max", "layer_area_drift"]
-MOBILISATION_COLUMNS = ["mobilised_fraction"]
 
 
 class DiagnosticsLog:
-    """The open diagnostics.csv of a run; ``rows`` is what a checkpoint remembers."""
+    """The open diagnostics.csv of a run, ``COLUMNS`` then ``columns`` (those the
+    problem's parts declare); ``rows`` is what a checkpoint remembers."""
 
     name = "diagnostics"
 
     def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None,
-                 layer: bool = False, mobilisation: bool = False) -> None:
+                 columns: Sequence[str] = ()) -> None:
         self.rows = int(resume.get("diagnostic_rows", 0)) if resume else 0
         path = run_dir.path(FILE)
         if resume is not None:
             _truncate_rows(path, self.rows)
-        self.columns = (COLUMNS + (LAYER_COLUMNS if layer else [])
-                        + (MOBILISATION_COLUMNS if mobilisation else []))
+        self.columns = COLUMNS + [c for c in columns if c not in COLUMNS]
         self._log: CsvLog = run_dir.csv_log(FILE, self.columns, resume=resume is not None)
 
     def write(self, row: Mapping[str, float]) -> None:

@@ -13,6 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from granflow.geometry.section import Section  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.plots import FigureFormat  # noqa: E402
@@ -28,12 +29,13 @@ def plot_erosion(run_dir: RunDir, config: Any, fmt: FigureFormat | None = None) 
         markers = found[-1].read()
     if markers is None:
         return
-    x = "r" if config.geometry.axisymmetric else "x"
+    section = Section(config.geometry.axisymmetric)
+    x = section.coordinate
     he = config.geometry.erodible_thickness
     fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), height_ratios=[1.3, 1, 1])
     _deposit(axes[0], run_dir, markers, x, he)
     _depths(axes[1], run_dir, x, he)
-    _history(axes[2], run_dir, x)
+    _history(axes[2], run_dir, section)
     fig.tight_layout()
     (fmt or FigureFormat.of(config)).save(fig, run_dir, "erosion")
 
@@ -70,17 +72,17 @@ def _depths(ax: plt.Axes, run_dir: RunDir, x: str, he: float) -> None:
     ax.legend(fontsize=7, ncol=3)
 
 
-def _history(ax: plt.Axes, run_dir: RunDir, x: str) -> None:
+def _history(ax: plt.Axes, run_dir: RunDir, section: Section) -> None:
     diag = read_diagnostics(run_dir.root)
     if not len(diag) or "column_front_x" not in diag:
         return
     ax.plot(diag["t"], diag["front_x"], label="flow front (1 mm above the layer)")
     ax.plot(diag["t"], diag["column_front_x"], label="column material front")
     ax.plot(diag["t"], diag["erosion_front_x"], label="erosion front (layer in motion)")
-    ax.set(xlabel="t (s)", ylabel=f"{x} (m)", title="Fronts and eroded areas")
+    ax.set(xlabel="t (s)", ylabel=f"{section.coordinate} (m)", title="Fronts and eroded areas")
     ax.legend(fontsize=7, loc="upper left")
     twin = ax.twinx()
     twin.plot(diag["t"], diag["layer_displaced_area"], "k--", lw=0.8, label="displaced")
     twin.plot(diag["t"], diag["layer_mobilised_area"], "k:", lw=0.8, label="in motion")
-    twin.set_ylabel("layer volume (m^3)" if x == "r" else "layer area (m^2 per m)")
+    twin.set_ylabel(f"layer {section.amount} ({section.amount_label})")
     twin.legend(fontsize=7, loc="lower right")

@@ -5,17 +5,19 @@ its index and its reader are ``io/vtk.py``.
 Point data: velocity (m/s), pressure (Pa). Cell data (means over each triangle): speed
 (m/s), strain_rate_norm (1/s), effective_viscosity (Pa s), the flowing flag (speed above
 1 mm/s), the stress stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder) and
-deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``); with a layer of
-its own material also layer_fraction (the share of layer material in each triangle); with a
-hysteretic friction also mobilisation (the state s of ``physics/hysteresis.py``).
+deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``); then the cell
+data the problem's parts declare (``simulation/outputs.py``): with a layer of its own
+material layer_fraction (the share of layer material in each triangle), with a hysteretic
+friction mobilisation (the state s of ``physics/hysteresis.py``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.diagnostics.stress import static_yield_stress, stress_components, yield_ratio
@@ -23,8 +25,6 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import FOLDER, VtkSeries
-from granflow.physics.hysteresis import mobilisation_cells
-from granflow.physics.regions import TwoMaterials
 
 
 class FlowState(Protocol):
@@ -35,13 +35,15 @@ class FlowState(Protocol):
 
 
 class FieldSnapshots:
-    """The VTU series of a run; ``entries`` (time, file) is what a checkpoint remembers."""
+    """The VTU series of a run; ``entries`` (time, file) is what a checkpoint remembers.
+    ``cell_data``: the problem's own cell data (name -> one value per triangle)."""
 
     name = "fields"
 
     def __init__(self, run_dir: RunDir, state: FlowState,
-                 resume: Mapping[str, Any] | None = None) -> None:
-        self.state = state
+                 resume: Mapping[str, Any] | None = None,
+                 cell_data: Callable[[], dict[str, np.ndarray]] | None = None) -> None:
+        self.state, self.cell_data = state, cell_data
         self.series = VtkSeries(run_dir.path(FOLDER))
         self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
 
@@ -50,11 +52,7 @@ class FieldSnapshots:
         the yield ratio at time t."""
         solver, mesh = self.state.solver, self.state.mesh
         speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
-        materials = ({"layer_fraction": solver.rheology.per_triangle.vec.FV().NumPy().copy()}
-                     if isinstance(solver.rheology, TwoMaterials) else {})
-        state = mobilisation_cells(solver.rheology)
-        if state is not None:
-            materials["mobilisation"] = state.vec.FV().NumPy().copy()
+        own = self.cell_data() if self.cell_data is not None else {}
         stress = {name: cell_means(mesh, cf)[0]
                   for name, cf in stress_components(solver).items()}
         kappa = cell_means(mesh, static_yield_stress(solver.rheology, solver.pressure))[0]
@@ -67,7 +65,7 @@ class FieldSnapshots:
                        "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
                        "effective_viscosity":
                            cell_means(mesh, solver.effective_viscosity())[0],
-                       **stress, **materials})
+                       **stress, **own})
 
     def write_last(self, t: float) -> None:
         """A snapshot at ``t`` unless the last one already is at that time."""

@@ -13,7 +13,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from granflow.io.run_dir import RunDir, atomic_file  # noqa: E402
+from granflow.io import profiles  # noqa: E402
+from granflow.io.run_dir import RunDir, RunDirError, atomic_file  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -58,6 +59,23 @@ def plot_plug_profile(path: Path, z: np.ndarray, u: np.ndarray, reference: np.nd
     ax.set_title(f"Plug flow, t = {t:.3f} s")
     ax.legend(loc="upper left")
     save_figure(fig, path, dpi=dpi)
+
+
+def plot_plug_flow(run_dir: RunDir, config: Any) -> None:
+    """The periodic layer's figure: the velocity profile against the 1D reference, of the
+    last accepted state, or of the last output time on disk for a run still going."""
+    found = profiles.list_profiles(run_dir.root, "velocity")
+    final_t = RunDir.summary(run_dir.root).get("final_profiles_t")
+    found = [p for p in found if p.t is not None or (p.final and final_t is not None)]
+    if not found:
+        raise RunDirError(f"'{run_dir.root}' holds no velocity profile yet (profiles/ is "
+                          "written at time.output_times)")
+    last = found[-1]
+    data = last.read()
+    t = last.t if last.t is not None else float(final_t)
+    fmt = FigureFormat.of(config)
+    plot_plug_profile(fmt.path(run_dir, "velocity_profile"), data["z"], data["u_x"],
+                      data["u_reference"], t, dpi=fmt.dpi)
 
 
 def plot_convergence_table(path: Path, results: list, table: int) -> None:

@@ -1,7 +1,10 @@
 """Collapse of a granular column over a rigid or erodible bed (configuration (b), sections 3
-and 5): the builder. It assembles the mesh, the discretisation on it (solver and ALE mover,
-``column_discretisation``), the remesher (``column_remesher``), the measures the outputs
-read (``column_measures``) and the loop, and starts from the column at rest."""
+and 5): the builder, registered as the problem kind "column". It assembles the mesh, the
+discretisation on it (solver and ALE mover, ``column_discretisation``), the remesher
+(``column_remesher``) and the loop, starts from the column at rest, and adds to the loop the
+parts that declare the outputs as named callbacks: the collapse's measures
+(``column_measures``), an erodible layer (``column_layer``) and a hysteretic friction's
+state (``mobilisation``)."""
 
 from __future__ import annotations
 
@@ -30,12 +33,14 @@ from granflow.scenarios.column_discretisation import (
     layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
-from granflow.scenarios.column_measures import ColumnMeasures, Table
+from granflow.scenarios.column_measures import ColumnMeasures
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.scenarios.materials import layer_material
 from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.registry import register
+from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
-from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.simulation import Simulation
 from granflow.simulation.timestep import step_policy
 
 
@@ -68,54 +73,26 @@ class ColumnCollapse:
     def inertial(self) -> InertialNumbers | None:
         return self.measures.inertial
 
-    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
-        out = self.measures.shape_measures(cell_speed)
-        if self.mobilisation is not None:
-            out["mobilised_fraction"] = self.mobilisation.mobilised_fraction()
-        return out
-
-    def record(self, row: dict[str, float]) -> None:
-        self.measures.record(row)
-
-    def flowing_fraction(self) -> float:
-        return self.measures.flowing_fraction()
-
-    def profiles(self, t: float) -> dict[str, Table]:
-        return self.measures.profiles()
-
-    def frame(self, sim: Simulation) -> dict[str, Any]:
-        return self.measures.frame(sim)
-
-    def summary(self, result: RunResult) -> dict[str, Any]:
-        return self.measures.summary(result)
-
     # --- checkpoint (io/run_state.py) ---------------------------------------------
     def save_state(self) -> dict[str, Any]:
         """The scenario's share of the run state: the mesh (with its boundary labels, which
-        deposition changes), the flow history, the mover, the diagnostics history and the
-        remeshes' record (animation frames are files, ``frames/``)."""
+        deposition changes), the flow history, the mover and the remeshes' record, then the
+        shares of the loop's callbacks (the diagnostics history, a layer, a mobilisation
+        state; animation frames are files, ``frames/``)."""
         return {"mesh": self.mesh, "fields": self.solver.save_history(),
-                "mover": self.mover.save_state(), **self.measures.save_state(),
-                **self.remesher.save_state(),
-                **(self.layer.save_state() if self.layer is not None else {}),
-                **(self.mobilisation.save_state() if self.mobilisation is not None else {})}
+                "mover": self.mover.save_state(), **self.remesher.save_state(),
+                **self.simulation.callbacks.save_state()}
 
     def restore_state(self, state: dict[str, Any]) -> None:
-        """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
-        if self.layer is not None:
-            self.layer.restore_material(state)
-        restored = discretise(self.config, state["mesh"],
-                              self.layer.material if self.layer is not None else None)
+        """Continue from ``save_state``: solver and mover rebuilt on the saved mesh, then
+        the callbacks' shares on them."""
+        restored = discretise(self.config, state["mesh"])
         restored.solver.restore_history(state["fields"])
         restored.mover.restore_state(state["mover"])
         self.current.replace(restored)
         self.simulation.replace(restored.solver, restored.mover)
-        self.measures.restore_state(state)
         self.remesher.restore_state(state)
-        if self.layer is not None:
-            self.layer.sample()
-        if self.mobilisation is not None:
-            self.mobilisation.restore_state(state)
+        self.simulation.callbacks.restore_state(state)
 
 
 def _inertial_numbers(law: object) -> InertialNumbers | None:
@@ -165,14 +142,17 @@ def build_column(config: Config) -> ColumnCollapse:
                             velocity_floor=config.numerics.velocity_floor)
     remesher = ColumnRemesher(config, current, simulation, layer=layer)
     measures = ColumnMeasures(config, current, remesher, simulation,
-                              inertial=_inertial_numbers(current.solver.rheology), layer=layer)
+                              inertial=_inertial_numbers(current.solver.rheology))
     simulation.remesher = remesher
     mobilisation = None
     if current.mobilisation is not None:
         mobilisation = remesher.mobilisation = MobilisationTracking(config, current, simulation)
         mobilisation.start()
-    # first: the outputs read the moved layer and the advanced state
-    simulation.observers = [part for part in (layer, mobilisation) if part is not None]
+    # before the runner's outputs: they read the moved layer and the advanced state
+    add_callback(simulation, measures, "collapse")
+    for name, part in (("layer", layer), ("mobilisation", mobilisation)):
+        if part is not None:
+            add_callback(simulation, part, name)
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
@@ -203,3 +183,6 @@ def _hydrostatic(config: Config, g_z: float, heights: np.ndarray, xy: np.ndarray
     top = layer_top(xy[:, 0]) if layer_top is not None else config.geometry.erodible_thickness
     in_layer = np.clip(top - z, 0.0, depth)
     return -g_z * (config.material.density * (depth - in_layer) + layer.density * in_layer)
+
+
+register("column", build_column, figures=(*ColumnMeasures.figures, *LayerTracking.figures))

@@ -14,7 +14,12 @@ Entrainment measures (diagnostics columns, profiles, summary):
   one: the conservation error of the tracking (the flow is incompressible).
 Units: m^2 per metre of width in plane strain; in r-z the amounts are volumes of revolution
 (m^3: what an axisymmetric incompressible flow conserves, not the section's area), each
-marker standing for the ring it started on.
+marker standing for the ring it started on (``geometry/section.py``).
+
+The layer declares its own outputs (``simulation/outputs.py``): these diagnostics columns,
+the profiles ``layer_line``, ``layer_markers`` and ``erosion_depth``, the cell data
+``layer_fraction`` of a layer of its own material, its summary members, its checkpoint
+state and the erosion figure (``io/erosion_plots.py``).
 """
 
 from __future__ import annotations
@@ -33,9 +38,12 @@ from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.scene import build_scene
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.materials import layer_material
-from granflow.simulation.simulation import Simulation
+from granflow.simulation.outputs import Outputs
+from granflow.simulation.simulation import RunResult, Simulation
 
 Table = tuple[list[str], np.ndarray]
+COLUMNS = ("layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
+           "column_front_x", "erosion_depth_max", "layer_area_drift")
 
 
 def displacement_threshold(config: Config) -> float:
@@ -44,9 +52,19 @@ def displacement_threshold(config: Config) -> float:
     return layer.grain_diameter
 
 
+def erosion_figure(run_dir: Any, config: Config) -> None:
+    """plots/erosion.png (``io/erosion_plots.py``), if the run wrote the layer's profiles."""
+    from granflow.io.erosion_plots import plot_erosion
+
+    plot_erosion(run_dir, config)
+
+
 @dataclass
-class LayerTracking:
-    """The layer's material, advanced after each accepted step (a loop observer)."""
+class LayerTracking(Outputs):
+    """The layer's material, advanced after each accepted step (the loop's callback)."""
+
+    columns = COLUMNS
+    figures = (erosion_figure,)
 
     config: Config
     current: ColumnDiscretisation
@@ -152,19 +170,14 @@ class LayerTracking:
         }
 
     def size(self, shape: shapely.Geometry) -> float:
-        """Area of a region of the section, or in r-z its volume of revolution
-        2 pi A r_centroid (Pappus)."""
-        if not self.config.geometry.axisymmetric:
-            return float(shape.area)
-        return 0.0 if shape.is_empty else 2 * np.pi * shape.area * shape.centroid.x
+        """Area of a region of the section, or in r-z its volume of revolution."""
+        return self.current.solver.coordinates.region(shape)
 
     def marker_weights(self) -> np.ndarray:
         """The amount of layer material each marker stands for: its share of the section's
         area, or in r-z the ring it started on."""
         mat = self.material
-        if not self.config.geometry.axisymmetric:
-            return np.full(len(mat.origins), mat.marker_area)
-        return 2 * np.pi * mat.origins[:, 0] * mat.marker_area
+        return self.current.solver.coordinates.weights(mat.origins[:, 0], mat.marker_area)
 
     def erosion_depth(self) -> tuple[np.ndarray, np.ndarray]:
         """Bin centres along the bed (original position) and the depth displaced there:
@@ -174,7 +187,16 @@ class LayerTracking:
         depth = self.material.erosion_depth(self.threshold, bins)
         return 0.5 * (bins[1:] + bins[:-1]), depth
 
-    def profiles(self) -> dict[str, Table]:
+    # --- its outputs ------------------------------------------------------------------
+    def diagnostics(self, sim: Simulation, cell_speed: np.ndarray) -> dict[str, float]:
+        return self.measures()
+
+    def fields(self) -> dict[str, np.ndarray]:
+        """The share of layer material per triangle, of a layer of its own material."""
+        fraction = self.current.fraction
+        return {} if fraction is None else {"layer_fraction": fraction.vec.FV().NumPy().copy()}
+
+    def profiles(self, t: float | None = None) -> dict[str, Table]:
         """The material line, the markers (now, origin, largest travel, speed) and the
         erosion depth along the bed."""
         mat = self.material
@@ -187,10 +209,11 @@ class LayerTracking:
             "erosion_depth": (["x0", "depth"], np.column_stack([x0, depth])),
         }
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self, result: RunResult | None = None) -> dict[str, Any]:
         """End-of-run figures: eroded amounts (now and largest), depth, conservation."""
         now = self.measures()
-        amount, unit = ("volume", "m3") if self.config.geometry.axisymmetric else ("area", "m2")
+        section = self.current.solver.coordinates
+        amount, unit = section.amount, section.unit
         return {
             "two_materials": self.current.fraction is not None,
             f"layer_displaced_{amount}_{unit}": now["layer_displaced_area"],
@@ -208,15 +231,16 @@ class LayerTracking:
         return {"layer_material": self.material.save_state(),
                 "layer_largest": [self.largest_drift, self.largest_mobilised]}
 
-    def restore_material(self, state: dict[str, Any]) -> None:
-        """The tracked layer of a checkpoint (the caller rebuilds the discretisation with
-        it, then calls ``sample``)."""
+    def restore_state(self, state: dict[str, Any]) -> None:
+        """The tracked layer of a checkpoint, on the problem's restored discretisation."""
         if "layer_material" not in state:
             raise ValueError("this checkpoint of a run over an erodible layer was written by "
                              "a granflow that did not track the layer's material; run it "
                              "again from the start")
         self.material = LayerMaterial.from_state(state["layer_material"])
         self.largest_drift, self.largest_mobilised = map(float, state["layer_largest"])
+        self.current.set_fraction(self.material)
+        self.sample()
 
 
 def _column_front(domain: shapely.Geometry, region: shapely.Geometry, thin: float) -> float:

@@ -1,8 +1,9 @@
 """What the outputs read from a collapse: the front, the free surface, the static/flowing
-interface, velocity sections, animation frames, the diagnostics history and the summary.
-Read-only on the flow; its state is the history of the rows it was given and, for mu(I), the
-inertial numbers it accumulates (both checkpointed). For a cylinder of radius 10 cm the
-section at X_g - 10 cm is the axis itself."""
+interface, velocity sections, animation frames, the diagnostics history, the summary and the
+figures (``io/collapse_plots.py``), declared as the collapse's callback
+(``simulation/outputs.py``). Read-only on the flow; its state is the history of the rows it
+was given and, for mu(I), the inertial numbers it accumulates (both checkpointed). For a
+cylinder of radius 10 cm the section at X_g - 10 cm is the axis itself."""
 
 from __future__ import annotations
 
@@ -27,8 +28,8 @@ from granflow.geometry.mesh import signed_areas
 from granflow.geometry.scene import build_scene
 from granflow.physics import MuI
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
-from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_remesher import ColumnRemesher
+from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
 
 SECTION_OFFSETS = (-0.10, 0.0, 0.10)  # m, around X_g = the initial front (section 5.2)
@@ -40,16 +41,25 @@ def _history() -> dict[str, list[float]]:
             "kinetic_energy": [], "wall_height": []}
 
 
+def collapse_figures(run_dir: Any, config: Config) -> None:
+    """The figures of a collapse and its animation (``io/collapse_plots.py``)."""
+    from granflow.io.collapse_plots import plot_collapse
+
+    plot_collapse(run_dir, config)
+
+
 @dataclass
-class ColumnMeasures:
+class ColumnMeasures(Outputs):
     """Measures of the current state of a collapse (``current`` follows the remeshes)."""
+
+    figures = (collapse_figures,)
+    animated = True
 
     config: Config
     current: ColumnDiscretisation
     remesher: ColumnRemesher
     simulation: Simulation
     inertial: InertialNumbers | None = None     # mu(I) runs: I in the flowing cells
-    layer: LayerTracking | None = None          # an erodible layer's tracked material
     history: dict[str, list[float]] = field(default_factory=_history)
 
     def front(self) -> float:
@@ -100,8 +110,6 @@ class ColumnMeasures:
                "wall_height": self.wall_height(xy)}
         if self.inertial is not None:
             self._add_inertial_numbers(cell_speed > FLOWING_SPEED)
-        if self.layer is not None:
-            out.update(self.layer.measures())
         out["area_correction"] = mover.step_correction
         out["remesh_area_change"] = self.remesher.unrecorded_change
         tension = mover.tension
@@ -119,6 +127,9 @@ class ColumnMeasures:
         values, areas = cell_means(self.current.mesh,
                                    law.inertial_number(shear_rate, solver.pressure, NGSOLVE_OPS))
         self.inertial.add(values[flowing], areas[flowing] * self.simulation.dt)
+
+    def diagnostics(self, sim: Simulation, cell_speed: np.ndarray) -> dict[str, float]:
+        return self.shape_measures(cell_speed)
 
     def record(self, row: dict[str, float]) -> None:
         for key, values in self.history.items():
@@ -162,7 +173,7 @@ class ColumnMeasures:
                 out.append((x, z, u))
         return out
 
-    def profiles(self) -> dict[str, Table]:
+    def profiles(self, t: float | None = None) -> dict[str, Table]:
         """Free surface, velocity sections and interface of the current state, as
         ``io/profiles.py`` writes them."""
         rows = [[x, zi, ui[0], ui[1]] for x, z, u in self.sections()
@@ -173,7 +184,7 @@ class ColumnMeasures:
                "velocity_sections": (["section_x", "z", "u_x", "u_z"], np.array(rows)),
                "interface": (["x", "z"],
                              np.column_stack([stations, self.interface(stations)]))}
-        return {**out, **(self.layer.profiles() if self.layer is not None else {})}
+        return out
 
     def frame(self, sim: Simulation) -> dict[str, Any]:
         """A frame of the animation: mesh, cell speeds, the speed of the P2 velocity at the
@@ -221,7 +232,6 @@ class ColumnMeasures:
                                       if mover.tension is not None else None),
             "inertial_number_flowing": (self.inertial.summary()
                                         if self.inertial is not None else None),
-            **(self.layer.summary() if self.layer is not None else {}),
             **({"volume_relative_error": abs(mover.area() / mover.initial_area - 1.0)}
                if self.remesher.added else {}),   # against the lengthened layer's
         }

@@ -6,13 +6,14 @@ runs along the bed and the state, uniform along it, needs nothing across the per
 the transport treats them as walls).
 
 The step is applied once, whichever comes first after it is accepted: a remesh (before the
-state moves to the new mesh, on the mesh the step was computed on) or this observer. The
+state moves to the new mesh, on the mesh the step was computed on) or this callback. The
 stretch of erodible layer a remesh adds ahead of the flow (``mesh.layer_ahead``) has been at
 rest since t = 0: its state is the layer's initial one relaxed for t at rest,
 s0 exp(-t / tau_r).
 
-Diagnostics column ``mobilised_fraction``: the mean of s over the mass (area-weighted; in
-r-z over the volume of revolution).
+Its outputs (``simulation/outputs.py``): the diagnostics column ``mobilised_fraction``, the
+mean of s over the mass (area-weighted; in r-z over the volume of revolution); the cell data
+``mobilisation`` of the VTU snapshots (s per triangle); its state in the checkpoint.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from granflow.fem.mobilisation import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.physics.hysteresis import Relaxation, pick, relaxed
 from granflow.scenarios.materials import layer_material, relaxation
+from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 
 
@@ -42,8 +44,10 @@ class Host(Protocol):
 
 
 @dataclass
-class MobilisationTracking:
-    """The loop observer that owns the mobilisation's time (``t``: the state is s(t))."""
+class MobilisationTracking(Outputs):
+    """The loop's callback that owns the mobilisation's time (``t``: the state is s(t))."""
+
+    columns = ("mobilised_fraction",)
 
     config: Config
     current: Host
@@ -119,6 +123,13 @@ class MobilisationTracking:
         solver = self.current.solver
         return solver.coordinates.integrate(self.field.state, self.current.mesh) / (
             solver.volume())
+
+    # --- outputs ------------------------------------------------------------------------
+    def diagnostics(self, sim: Simulation, cell_speed: np.ndarray) -> dict[str, float]:
+        return {"mobilised_fraction": self.mobilised_fraction()}
+
+    def fields(self) -> dict[str, np.ndarray]:
+        return {"mobilisation": self.field.values.copy()}
 
     def save_state(self) -> dict[str, Any]:
         return {"mobilisation": self.field.values.copy(), "mobilisation_t": self.t}

@@ -1,5 +1,6 @@
 """Periodic layer on an incline: the plug flow (configuration (a), paper section 4) and the
-steady flow of a layer steeper than its friction (Drucker-Prager or mu(I))."""
+steady flow of a layer steeper than its friction (Drucker-Prager or mu(I)); the builder,
+registered as the problem kind "periodic-layer", and its outputs (``PlugFlowOutputs``)."""
 
 from __future__ import annotations
 
@@ -22,6 +23,9 @@ from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.scenarios.materials import augmentation, build_rheology, friction_law
 from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.registry import register
+from granflow.simulation.callbacks import add_callback
+from granflow.simulation.outputs import Outputs, Table
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.timestep import step_policy
 
@@ -36,7 +40,7 @@ class PlugFlow:
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
     mobilisation: MobilisationField | None = None     # a hysteretic friction's state
-    tracking: MobilisationTracking | None = None      # ... and its observer
+    tracking: MobilisationTracking | None = None      # ... and its callback
 
     @property
     def steep(self) -> bool:
@@ -121,24 +125,16 @@ class PlugFlow:
 
     def save_state(self) -> dict[str, Any]:
         """The flow history and the vertex positions (the vertical mesh motion moves them;
-        the periodic mesh's topology never changes)."""
+        the periodic mesh's topology never changes), then the shares of the loop's
+        callbacks (a mobilisation state)."""
         return {"fields": self.solver.save_history(),
                 "coordinates": self.mesh.ngmesh.Coordinates().copy(),
-                **(self.tracking.save_state() if self.tracking is not None else {})}
+                **self.simulation.callbacks.save_state()}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         self.mesh.ngmesh.Coordinates()[:] = state["coordinates"]
         self.solver.restore_history(state["fields"])
-        if self.tracking is not None:
-            self.tracking.restore_state(state)
-
-    def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
-        if self.tracking is None:
-            return {}
-        return {"mobilised_fraction": self.tracking.mobilised_fraction()}
-
-    def record(self, row: dict[str, float]) -> None:
-        pass
+        self.simulation.callbacks.restore_state(state)
 
     def profile(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Z, the 2D velocity along the mid vertical and the 1D reference, at time t."""
@@ -148,21 +144,38 @@ class PlugFlow:
         ref = self.reference(t)
         return z, u, ref(z) if ref is not None else np.full(len(z), np.nan)
 
-    def profiles(self, t: float) -> dict[str, tuple[list[str], np.ndarray]]:
+
+def plug_flow_figure(run_dir: Any, config: Config) -> None:
+    """The velocity profile against its reference (``io/plots.py``)."""
+    from granflow.io.plots import plot_plug_flow
+
+    plot_plug_flow(run_dir, config)
+
+
+@dataclass
+class PlugFlowOutputs(Outputs):
+    """The periodic layer's outputs: the velocity along the mid vertical against its
+    reference at the output times, the errors against it in the summary, the figure."""
+
+    problem: PlugFlow
+    figures = (plug_flow_figure,)
+
+    def profiles(self, t: float) -> dict[str, Table]:
         """The velocity along the mid vertical and the reference at time ``t``, as
         ``io/profiles.py`` writes them."""
-        z, u, ref = self.profile(t)
+        z, u, ref = self.problem.profile(t)
         return {"velocity": (["z", "u_x", "u_z", "u_reference"], np.column_stack([z, u, ref]))}
 
     def summary(self, result: RunResult) -> dict[str, Any]:
-        ref = self.reference(result.t_final) if result.t_final > 0 else None
-        errors = self.velocity_errors(result.t_final) if ref is not None else None
+        problem = self.problem
+        ref = problem.reference(result.t_final) if result.t_final > 0 else None
+        errors = problem.velocity_errors(result.t_final) if ref is not None else None
         return {
             "velocity_relative_error_l2": errors[1] if errors else None,
             "velocity_error_l2": errors[0] if errors else None,
             "reference_interface_m": ref.interface if ref else None,
-            "reference": self.reference_kind,
-            "reference_note": self.reference_note(),
+            "reference": problem.reference_kind,
+            "reference_note": problem.reference_note(),
         }
 
 
@@ -201,8 +214,12 @@ def build_plug_flow(config: Config) -> PlugFlow:
                             velocity_floor=config.numerics.velocity_floor)
     problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation,
                        mobilisation=mobilisation)
+    add_callback(simulation, PlugFlowOutputs(problem), "plug_flow")
     if mobilisation is not None:
         problem.tracking = MobilisationTracking(config, problem, simulation)
         problem.tracking.start()
-        simulation.observers = [problem.tracking]
+        add_callback(simulation, problem.tracking, "mobilisation")
     return problem
+
+
+register("periodic-layer", build_plug_flow, figures=PlugFlowOutputs.figures)

@@ -1,1 +1,1 @@
-"""The time loop, its step-size policy and its observers."""
+"""The time loop, its step-size policy and its named callbacks."""

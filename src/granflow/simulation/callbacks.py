@@ -1,50 +1,126 @@
-"""Observers of the time loop and the schedules that trigger them; they only read."""
+"""Callbacks of the time loop and the schedules that trigger them, as Oceananigans'
+``add_callback!(simulation, Callback(func, schedule); name)`` and
+``simulation.callbacks[name]``: after each accepted step the loop runs every callback whose
+schedule says so, in the order they were added. A callback's ``func`` that is an ``Outputs``
+(``simulation/outputs.py``) also declares what the run's outputs read of it.
+
+A schedule is ``schedule(sim) -> bool``: ``EveryStep``, ``EveryNSteps``, ``TimeInterval``,
+``AtTimes``. Given an ``action``, the last three run it themselves (``AtTimes`` as
+``action(sim, time)`` for each time reached), and can stand as a callback's func or an
+unnamed observer.
+"""
 
 from __future__ import annotations
 
 import sys
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Protocol
 
 from tqdm import tqdm
 
 if TYPE_CHECKING:
     from granflow.simulation.simulation import Simulation
 
-Action = Callable[["Simulation"], None]
+Action = Callable[["Simulation"], Any]
+
+
+class Schedule(Protocol):
+    """Whether a callback is due after this accepted step (it may keep state: the next
+    time, the times still pending)."""
+
+    def __call__(self, sim: Simulation) -> bool: ...
+
+
+@dataclass
+class Callback:
+    """``func(sim)`` after an accepted step when ``schedule(sim)`` says so."""
+
+    func: Action
+    schedule: Schedule = field(default_factory=lambda: EveryStep())
+
+    def __call__(self, sim: Simulation) -> None:
+        if self.schedule(sim):
+            self.func(sim)
+
+
+def add_callback(sim: Simulation, callback: Callback | Action, name: str,
+                 schedule: Schedule | None = None) -> Callback:
+    """Add ``callback`` (or ``Callback(func, schedule)``) to ``sim.callbacks`` as ``name``,
+    after those already there; a name is given once."""
+    if not isinstance(callback, Callback):
+        callback = Callback(callback, schedule if schedule is not None else EveryStep())
+    if name in sim.callbacks:
+        raise ValueError(f"the simulation has a callback named {name!r} already")
+    sim.callbacks[name] = callback
+    return callback
+
+
+class EveryStep:
+    """Every accepted step."""
+
+    def __call__(self, sim: Simulation) -> bool:
+        return True
 
 
 class AtTimes:
-    """Run ``action(sim, time)`` once when the loop reaches each of ``times`` (the steps
-    hit them); ``flush`` runs the ones still pending from the final state."""
+    """Once when the loop reaches each of ``times`` (the steps hit them): runs
+    ``action(sim, time)`` for each; ``flush`` runs the ones still pending from the final
+    state. As a schedule (no action), due when one or more were reached (``reached``)."""
 
     def __init__(self, times: Sequence[float],
-                 action: Callable[[Simulation, float], None]) -> None:
+                 action: Callable[[Simulation, float], None] | None = None) -> None:
         self.pending = sorted(times)
         self.action = action
+        self.reached: list[float] = []
 
-    def __call__(self, sim: Simulation) -> None:
+    def __call__(self, sim: Simulation) -> bool:
+        self.reached = []
         while self.pending and sim.t >= self.pending[0] - 1e-9 * max(1.0, self.pending[0]):
-            self.action(sim, self.pending.pop(0))
+            t = self.pending.pop(0)
+            self.reached.append(t)
+            if self.action is not None:
+                self.action(sim, t)
+        return bool(self.reached)
 
     def flush(self, sim: Simulation) -> list[float]:
         """Write the pending times from the current state; return them."""
         done = list(self.pending)
         for t in done:
-            self.action(sim, t)
+            if self.action is not None:
+                self.action(sim, t)
         self.pending = []
         return done
 
 
 class EveryNSteps:
-    """Run ``action`` every ``n`` accepted steps (never when n == 0)."""
+    """Every ``n`` accepted steps (never when n == 0); runs ``action`` then, if given."""
 
-    def __init__(self, n: int, action: Action) -> None:
+    def __init__(self, n: int, action: Action | None = None) -> None:
         self.n, self.action = n, action
 
-    def __call__(self, sim: Simulation) -> None:
-        if self.n > 0 and sim.step % self.n == 0:
+    def __call__(self, sim: Simulation) -> bool:
+        due = self.n > 0 and sim.step % self.n == 0
+        if due and self.action is not None:
             self.action(sim)
+        return due
+
+
+class TimeInterval:
+    """Each time simulated time crosses a multiple of ``interval`` (``next``: the next
+    one); runs ``action`` then, if given."""
+
+    def __init__(self, interval: float, action: Action | None = None) -> None:
+        self.interval, self.action, self.next = interval, action, interval
+
+    def __call__(self, sim: Simulation) -> bool:
+        if not (self.interval > 0 and sim.t >= self.next - 1e-12):
+            return False
+        if self.action is not None:
+            self.action(sim)
+        while self.next <= sim.t + 1e-12:
+            self.next += self.interval
+        return True
 
 
 class ProgressBar:
@@ -103,16 +179,3 @@ def _bar_class() -> Any:
             return tqdm
         return notebook_bar
     return tqdm
-
-
-class TimeInterval:
-    """Run ``action`` each time simulated time crosses a multiple of ``interval``."""
-
-    def __init__(self, interval: float, action: Action) -> None:
-        self.interval, self.action, self.next = interval, action, interval
-
-    def __call__(self, sim: Simulation) -> None:
-        if self.interval > 0 and sim.t >= self.next - 1e-12:
-            self.action(sim)
-            while self.next <= sim.t + 1e-12:
-                self.next += self.interval

@@ -1,7 +1,10 @@
 """The time loop: mesh velocity -> move -> nonlinear solve -> accept/reject (section 3.3).
 
-It owns the stop criteria and says why it stopped; observers read the state after each
-accepted step and never change it. It knows no file format and no finite-element engine:
+It owns the stop criteria and says why it stopped; after each accepted step it runs its
+named callbacks (``simulation.callbacks[name]``, ``simulation/callbacks.py``), in the order
+they were added: the parts of the problem that carry state along (an erodible layer, a
+mobilisation state), then the run's files that read it; then the unnamed ``observers`` of a
+script. It knows no file format and no finite-element engine:
 the solver, the mesh motion and the remesher are protocols (``FlowStep``, ``MeshMotion``,
 ``Remesher``), so the loop imports and runs without NGSolve.
 
@@ -22,6 +25,7 @@ from enum import Enum
 from typing import Any, Protocol
 
 from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure
+from granflow.simulation.outputs import Callbacks
 from granflow.simulation.timestep import LocalError, StepPolicy, StepTooSmall
 
 
@@ -111,7 +115,7 @@ class Simulation:
     t_end: float
     max_iterations: int
     mesh_motion: MeshMotion | None = None
-    observers: Sequence[Observer] = ()
+    observers: Sequence[Observer] = ()   # unnamed, after the callbacks (scripts, benchmarks)
     stop_criteria: Sequence[StopCriterion] = ()
     remesher: Remesher | None = None
     velocity_floor: float = 0.0
@@ -134,6 +138,7 @@ class Simulation:
     checkpoint_every: int = 0
     interrupt: str | None = None         # set (by a signal handler) to end the run cleanly
     elapsed_before: float = 0.0          # s of wall time spent before a resume
+    callbacks: Callbacks = field(default_factory=Callbacks)   # name -> Callback, in order
     _start: float = field(default=0.0, repr=False)
     _rejections_in_row: int = field(default=0, repr=False)
     _remesh_error: str = field(default="", repr=False)
@@ -348,5 +353,7 @@ class Simulation:
                 self.remesher.remesh()
             except Exception:   # (the mesher's own errors too) the mesh in use is valid:
                 self.skipped_remeshes += 1   # go on; a tangling step asks again
+        for callback in list(self.callbacks.values()):
+            callback(self)
         for observer in self.observers:
             observer(self)
