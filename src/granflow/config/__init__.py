@@ -4,6 +4,7 @@ Imports point one way: ``schema`` and ``messages`` at the bottom, ``rules`` on t
 ``loading`` (with ``Config``) on top; this face hands the public names on.
 """
 
+from granflow.config.cost import estimated_triangles
 from granflow.config.loading import (
     CUSTOM,
     MAX_TOML_BYTES,
@@ -16,7 +17,7 @@ from granflow.config.loading import (
     read_toml_file,
     toml_literal,
 )
-from granflow.config.rules import MAX_TRIANGLES, estimated_triangles, inert_keys
+from granflow.config.rules import MAX_TRIANGLES, inert_keys
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
 from granflow.config.schema import SECTIONS, ConfigError, ConfigNote
 

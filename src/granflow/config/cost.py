@@ -2,13 +2,13 @@
 but would compute for days are refused before anything starts, with the estimate and the
 key to change; a run of more than an hour is announced (``cost_note``).
 
-The estimate is a lower bound: the triangles the mesher will make (``rules``) times the
-fewest steps (time.t_end over time.dt or time.dt_max) times ``COST_PER_TRIANGLE_STEP``, the
-time one core takes per triangle and step at the default tolerance. Measured by
-``benchmarks/scaling.py`` (``benchmarks/results/scaling``): 8.5e-5 s at 300 to 1,200
-triangles, 7.1e-5 s at 5,000, 9.9e-5 s at 20,000 and 1.5e-4 s at 80,000, six iterations a
-step with PARDISO. A column that stops at rest (``time.stop_at_rest``) usually ends long
-before time.t_end, so its estimate is only announced, never refused.
+The estimate is a lower bound: the triangles the mesher will make (``estimated_triangles``)
+times the fewest steps (time.t_end over time.dt or time.dt_max) times
+``COST_PER_TRIANGLE_STEP``, the time one core takes per triangle and step at the default
+tolerance. Measured by ``benchmarks/scaling.py`` (``benchmarks/results/scaling``): 8.5e-5 s
+at 300 to 1,200 triangles, 7.1e-5 s at 5,000, 9.9e-5 s at 20,000 and 1.5e-4 s at 80,000, six
+iterations a step with PARDISO. A column that stops at rest (``time.stop_at_rest``) usually
+ends long before time.t_end, so its estimate is only announced, never refused.
 
 A tolerance below ``TOL_FLOOR`` is refused: the fixed-point iteration (3.2) does not reach
 it in double precision (``benchmarks/tolerance_floor.py``, the first 0.01 s of a
@@ -19,6 +19,7 @@ smaller, and the run takes 562 steps and 37 times the wall time of 1e-12).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -34,8 +35,6 @@ MAX_OUTPUT_TIMES = 10_000       # each writes profiles and a VTU snapshot
 
 def estimate(c: Config) -> tuple[float, float, float, str]:
     """(triangles, fewest steps, seconds of one core, the key that sets the step)."""
-    from granflow.config.rules import estimated_triangles
-
     t = c.time
     key, step = ("time.dt", t.dt) if t.dt is not None else ("time.dt_max", t.dt_max)
     triangles = sum(estimated_triangles(c))
@@ -76,3 +75,32 @@ def cost_note(c: Config) -> str | None:
     rest = (" if it does not come to rest first" if stops_at_rest(c) else "")
     return (f"this run needs about {seconds / 3600:.2g} hours of computing or more{rest} "
             f"({steps:.2g} steps of {key} on about {triangles:.2g} triangles)")
+
+
+def estimated_triangles(c: Config) -> tuple[float, float]:
+    """Triangles the mesher will make (bulk, erodible layer), from the areas and sizes (an
+    equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
+    g, m = c.geometry, c.mesh
+    if g.kind == "periodic-layer":
+        return 2 * (m.cells_x or g.length / m.size) * (g.height / m.size), 0.0
+    area = bulk_area(c)
+    layer = 0.0
+    if g.erodible_thickness > 0:
+        fine = g.erodible_thickness / m.layer_cells
+        layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
+                 / m.layer_aspect)
+    return area / 0.433 / m.size / m.size, layer
+
+
+def bulk_area(c: Config) -> float:
+    """Area of the column (m^2): the rectangle, less the front's triangle of a trapezoid."""
+    g = c.geometry
+    run = front_run(g.height, g.front_angle_deg) if g.shape == "trapezoid" else 0
+    return g.width * g.height - 0.5 * g.height * min(run, g.width)
+
+
+def front_run(height: float, angle_deg: float) -> float:
+    """Horizontal extent of a trapezoid's front (inf for an angle whose tangent is 0 in
+    floating point, such as 5e-324 degrees)."""
+    slope = math.tan(math.radians(angle_deg))
+    return height / slope if slope > 0 else math.inf

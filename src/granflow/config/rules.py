@@ -11,7 +11,7 @@ import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-from granflow.config.cost import cost_problems
+from granflow.config.cost import bulk_area, cost_problems, estimated_triangles, front_run
 from granflow.config.geometry_rules import geometry_inert_keys, geometry_problems
 from granflow.config.messages import fmt_value
 from granflow.config.schema import Layer, Material
@@ -75,7 +75,7 @@ def problems(c: Config) -> Iterator[str]:
         yield from _axisymmetric_problems(c)
         builtin = g.mass is None and g.mass_file is None     # (a user's mass: no shape)
         if (builtin and g.shape == "trapezoid"
-                and _front_run(g.height, g.front_angle_deg) >= g.width):
+                and front_run(g.height, g.front_angle_deg) >= g.width):
             yield (f"geometry.front_angle_deg = {g.front_angle_deg!r} is too shallow for this "
                    "column: its top width, width - height / tan(front_angle), must be > 0")
         else:                                   # (the scene is built only from a valid shape)
@@ -92,7 +92,7 @@ def problems(c: Config) -> Iterator[str]:
                "use a thicker or shorter layer, or fewer mesh.layer_cells")
     elif bulk + layer > MAX_TRIANGLES:
         if g.kind == "column":
-            smallest = math.sqrt(_bulk_area(c) / 0.433 / (MAX_TRIANGLES - layer))
+            smallest = math.sqrt(bulk_area(c) / 0.433 / (MAX_TRIANGLES - layer))
         elif m.cells_x:     # 2 cells_x H / size triangles
             smallest = 2 * m.cells_x * g.height / MAX_TRIANGLES
         else:               # 2 L H / size^2
@@ -115,35 +115,6 @@ def problems(c: Config) -> Iterator[str]:
         if mat.grain_density < mat.density:
             yield (f"material.grain_density = {mat.grain_density!r} must be at least "
                    f"material.density = {mat.density!r} (their ratio is the packing fraction)")
-
-
-def estimated_triangles(c: Config) -> tuple[float, float]:
-    """Triangles the mesher will make (bulk, erodible layer), from the areas and sizes (an
-    equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
-    g, m = c.geometry, c.mesh
-    if g.kind == "periodic-layer":
-        return 2 * (m.cells_x or g.length / m.size) * (g.height / m.size), 0.0
-    area = _bulk_area(c)
-    layer = 0.0
-    if g.erodible_thickness > 0:
-        fine = g.erodible_thickness / m.layer_cells
-        layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
-                 / m.layer_aspect)
-    return area / 0.433 / m.size / m.size, layer
-
-
-def _bulk_area(c: Config) -> float:
-    """Area of the column (m^2): the rectangle, less the front's triangle of a trapezoid."""
-    g = c.geometry
-    run = _front_run(g.height, g.front_angle_deg) if g.shape == "trapezoid" else 0
-    return g.width * g.height - 0.5 * g.height * min(run, g.width)
-
-
-def _front_run(height: float, angle_deg: float) -> float:
-    """Horizontal extent of a trapezoid's front (inf for an angle whose tangent is 0 in
-    floating point, such as 5e-324 degrees)."""
-    slope = math.tan(math.radians(angle_deg))
-    return height / slope if slope > 0 else math.inf
 
 
 def _layer_problems(c: Config) -> Iterator[str]:

@@ -15,14 +15,23 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import Any, Protocol
 
 from tqdm import tqdm
 
-if TYPE_CHECKING:
-    from granflow.simulation.simulation import Simulation
 
-Action = Callable[["Simulation"], Any]
+class Simulation(Protocol):
+    """What callbacks and schedules read of the running loop (``simulation.Simulation``):
+    declared here, so that this module and ``outputs`` sit below the loop that walks them."""
+
+    t: float
+    dt: float
+    step: int
+    last_report: Any
+    callbacks: Any
+
+
+Action = Callable[[Simulation], Any]
 
 
 class Schedule(Protocol):

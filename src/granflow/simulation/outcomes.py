@@ -8,7 +8,7 @@ tested without NGSolve.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 
 
@@ -58,3 +58,20 @@ class MoveFailure(Enum):
     @property
     def remeshable(self) -> bool:
         return self in (MoveFailure.INVERTED, MoveFailure.SELF_INTERSECTS)
+
+
+@dataclass
+class RunResult:
+    """Why and where the loop stopped, and what it cost."""
+
+    status: str                      # completed | stopped | interrupted | failed
+    message: str
+    t_final: float
+    steps: int
+    rejected_steps: int
+    nonlinear_iterations: int
+    linear_solves: int
+    unconverged_steps: int           # accepted without convergence: always 0 now
+    wall_time_s: float
+    rejections: dict[str, int] = field(default_factory=dict)
+    skipped_remeshes: int = 0        # quality remeshes that failed: the run went on without

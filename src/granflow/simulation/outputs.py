@@ -14,13 +14,12 @@ Everything declared is plain data; the files are ``io/``'s.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from granflow.simulation.callbacks import Callback
-    from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.callbacks import Callback, Simulation
+from granflow.simulation.outcomes import RunResult
 
 Table = tuple[list[str], np.ndarray]       # a profile: column names, rows
 Figure = Callable[[Any, Any], None]        # (run_dir, config): drawn from the run's files
@@ -68,7 +67,7 @@ class Outputs:
         """Continue from ``save_state`` (the problem's mesh and flow already restored)."""
 
 
-class Callbacks(dict[str, "Callback"]):
+class Callbacks(dict[str, Callback]):
     """``simulation.callbacks``: name -> ``Callback``, run in the order added; the walks
     below gather what their ``Outputs`` declare."""
 

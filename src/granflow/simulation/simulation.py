@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Protocol
 
-from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure
+from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure, RunResult
 from granflow.simulation.outputs import Callbacks
 from granflow.simulation.timestep import LocalError, StepPolicy, StepTooSmall
 
@@ -79,23 +79,6 @@ STALL_ADVICE = {     # by the most frequent failure while the run stalled (Rejec
 
 Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
-
-
-@dataclass
-class RunResult:
-    """Why and where the loop stopped, and what it cost."""
-
-    status: str                      # completed | stopped | interrupted | failed
-    message: str
-    t_final: float
-    steps: int
-    rejected_steps: int
-    nonlinear_iterations: int
-    linear_solves: int
-    unconverged_steps: int           # accepted without convergence: always 0 now
-    wall_time_s: float
-    rejections: dict[str, int] = field(default_factory=dict)
-    skipped_remeshes: int = 0        # quality remeshes that failed: the run went on without
 
 
 @dataclass
