@@ -129,18 +129,29 @@ def runout(row: dict) -> float | None:
     return row.get("runout_m") if settled else None
 
 
-def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, bool]:
-    """The erodible row's settled runout over its rigid twin's, and whether that is only an
-    upper bound: where the rigid front was still moving at t_end, the ratio to where it was
-    then (it only goes further). None for a rigid row or one not settled."""
+def front(row: dict) -> float | None:
+    """The front at t_end of a run that reached it still moving (None otherwise)."""
+    return row.get("runout_m") if row.get("status") == "completed" else None
+
+
+def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, str]:
+    """The erodible row's runout over its rigid twin's, and what it is: "" both settled;
+    "≤" an upper bound, the rigid front still moving at t_end (it only goes further); "≥" a
+    lower bound, the erodible front still moving; "≈" both moving, their fronts at t_end.
+    None for a rigid row or one that failed."""
     rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
     x, x0 = runout(row), runout(rigid)
-    if row["he"] == 0 or x is None:
-        return None, False
+    if row["he"] == 0:
+        return None, ""
+    if x is not None:
+        if x0:
+            return x / x0, ""
+        return (x / front(rigid), "≤") if front(rigid) else (None, "")
+    if front(row) is None:
+        return None, ""
     if x0:
-        return x / x0, False
-    moving = rigid.get("runout_m") if rigid.get("status") == "completed" else None
-    return (x / moving, True) if moving else (None, False)
+        return front(row) / x0, "≥"
+    return (front(row) / front(rigid), "≈") if front(rigid) else (None, "")
 
 
 def table(results: dict[str, dict]) -> str:
@@ -153,7 +164,7 @@ def table(results: dict[str, dict]) -> str:
                                                       r["he"], r.get("cells", CELLS))):
         x = runout(r)
         value, bound = ratio(results, r)
-        shown = "-" if value is None else ("≤ " if bound else "") + f"{value:.3f}"
+        shown = "-" if value is None else f"{bound} {value:.3f}".strip()
 
         def num(v: float | None, fmt: str, scale: float = 1.0) -> str:
             return "-" if v is None else format(scale * v, fmt)
@@ -161,7 +172,8 @@ def table(results: dict[str, dict]) -> str:
         lines.append("| " + " | ".join([
             r["variant"], r["shape"], f"{r['slope']:g}", f"{1e3 * r['he']:g}",
             str(r.get("cells", CELLS)) if r["he"] > 0 else "-",
-            num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", shown,
+            num(x, ".3f") if x else f"≥ {front(r):.3f}, moving at {r['t_final']:.2f} s"
+            if front(r) else f"{r['status']} at {r['t_final']:.2f} s", shown,
             num(r.get("duration_s"), ".3f"), num(r.get("stop_time_s"), ".3f"),
             num(r.get("layer_displaced_area_m2"), ".2e"),
             num(r.get("erosion_depth_max_m"), ".1f", 1e3),
@@ -172,7 +184,8 @@ def table(results: dict[str, dict]) -> str:
 def ratio_table(results: dict[str, dict]) -> str:
     """One line per variant, column, layer and resolution, one column per slope: the
     erodible runout (m), its ratio to the rigid bed's and the flow duration (s); a run whose
-    front had not settled gives its front at the end, marked still moving."""
+    front had not settled gives its front at the end, marked still moving, and the ratio
+    marked as ``ratio`` says."""
     slopes = sorted({r["slope"] for r in results.values()})
     lines = ["| variant | column | layer (mm) | cells | "
              + " | ".join(f"{s:g}°" for s in slopes) + " |", "|" + "---|" * (4 + len(slopes))]
@@ -181,15 +194,14 @@ def ratio_table(results: dict[str, dict]) -> str:
         if r["he"] == 0:
             continue
         x = runout(r)
+        value, bound = ratio(results, r)
+        shown = "" if value is None else {
+            "": f" ({value:.2f})", "≤": f" (≤ {value:.2f}, rigid moving at t_end)",
+            "≥": f" (≥ {value:.2f})", "≈": f" (≈ {value:.2f}, rigid moving too)"}[bound]
         if x is None:
-            front = r.get("runout_m")
-            cell = (f"≥ {front:.3f}, moving at {r['t_final']:.1f} s"
-                    if front and r["status"] == "completed"
+            cell = (f"≥ {front(r):.3f}, moving at {r['t_final']:.1f} s{shown}" if front(r)
                     else f"{r['status']} at {r['t_final']:.2f} s")
         else:
-            value, bound = ratio(results, r)
-            shown = ("" if value is None else f" (≤ {value:.2f}, rigid moving at t_end)"
-                     if bound else f" ({value:.2f})")
             duration = r.get("duration_s")
             cell = f"{x:.3f}{shown}" + (f", {duration:.2f} s" if duration else "")
         group = (r["variant"], r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
@@ -211,15 +223,20 @@ def panel(variant: str, shape: str, he: float) -> int:
     return 0
 
 
+BOUND_MARKERS = {"≤": ("v", "upper bound: rigid front still moving at 3 s"),
+                 "≥": ("^", "lower bound: erodible front still moving at 3 s"),
+                 "≈": ("o", "both fronts still moving at 3 s: ratio of the fronts then")}
+
+
 def figure(results: dict[str, dict], path: Path) -> None:
     """Erodible/rigid runout ratio against slope over the experiments' trend (no change
     below the critical slope, up to +40 % near repose): left, each constant-friction
     ingredient on the rectangle over 5 mm; middle, the layer's thickness and the column's
     shape; right, the glass beads' mu(I) and the hysteretic friction (a variant at one
-    slope, the parameters varied, as a lone marker). An open triangle is an upper bound:
-    the rigid front was still moving at t_end."""
+    slope, the parameters varied, as a lone marker). Open markers are bounds (``ratio``):
+    down, the rigid front was still moving at t_end; up, the erodible one; a circle, both."""
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.6), sharey=True)
-    groups: dict[tuple, list[tuple[float, float, bool]]] = {}
+    groups: dict[tuple, list[tuple[float, float, str]]] = {}
     for r in results.values():
         value, bound = ratio(results, r)
         if value is not None:
@@ -231,22 +248,24 @@ def figure(results: dict[str, dict], path: Path) -> None:
         points.sort()
         label = f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cell{'s' * (cells > 1)}"
         slopes, ratios, _ = zip(*points, strict=True)
-        marked = [(s, q) for s, q, bound in points if bound]
+        marked = {kind: [(s, q) for s, q, bound in points if bound == kind]
+                  for kind in BOUND_MARKERS}
         for i, ax in enumerate(axes):
             if where == i or (where == -1 and i < 2):
                 line, = ax.plot(slopes, ratios, style, ms=3 if len(points) > 1 else 5,
                                 label=label)
-                if marked:
-                    ax.plot(*zip(*marked, strict=True), "v", ms=7, mfc="none",
-                            color=line.get_color())
+                for kind, found in marked.items():
+                    if found:
+                        ax.plot(*zip(*found, strict=True), BOUND_MARKERS[kind][0], ms=7,
+                                mfc="none", color=line.get_color())
     for ax, title in zip(axes, ("constant friction (rectangle, 5 mm layer)",
                                 "layer thickness and column (Drucker-Prager)",
                                 "glass beads' mu(I), hysteretic friction"), strict=True):
         ax.axhline(1.0, color="0.5", lw=0.8)
         ax.fill_between([16, 23.5], [1.0, 1.0], [1.0, 1.4], color="0.85",
                         label="experiments: up to +40 % above ~16 deg")
-        ax.plot([], [], "v", ms=7, mfc="none", color="0.3",
-                label="upper bound: rigid front still moving at 3 s")
+        for marker, meaning in BOUND_MARKERS.values():
+            ax.plot([], [], marker, ms=7, mfc="none", color="0.3", label=meaning)
         ax.set(xlabel="slope (deg)", title=title)
         ax.legend(fontsize=6)
     axes[0].set_ylabel("runout erodible / rigid")
