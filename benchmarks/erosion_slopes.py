@@ -3,7 +3,7 @@ against slope, for several model ingredients, beside what the experiments report
 
 Run: python benchmarks/erosion_slopes.py [--variants drucker-prager mu-i ...]
          [--shapes rectangle trapezoid] [--slopes 0 10 16 19 22]
-         [--thickness 0.0025 0.005 0.01] [--set key=value ...]
+         [--thickness 0.0025 0.005 0.01] [--beds rigid erodible] [--cells 2]
          [--out benchmarks/results/erosion_slopes] [--collect]
 
 Each variant is a set of overrides applied to both beds; the ratio is taken between its
@@ -11,7 +11,8 @@ erodible and rigid runs at the same slope. The rigid bed of each variant and slo
 first: the layer then reaches 1.3 times its runout (the layer must not end under the flow).
 Runs go to OUT/runs/VARIANT/SHAPE-HEmm-SLOPE (HE = 0 is the rigid bed); a finished run is
 kept and one with a checkpoint (every 100 steps) continued, so rerunning the command
-continues the study. OUT/
+continues the study; a finished row already in OUT/erosion_slopes.json with the same
+overrides is kept without its run folder (a fresh clone has none). OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
 erosion_slopes.png the ratio against slope. The flow duration is the time the flowing
 area falls below 1 % (``common/runs.flow_duration``).
@@ -37,11 +38,18 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from common.runs import collected, flow_duration, run_or_continue  # noqa: E402
+from common.runs import FINISHED, collected, flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import atomic_write_text  # noqa: E402
 
+GLASS_BEADS = ["material.rheology=mu-i", "material.friction_angle_deg=20.9",
+               "material.mu_2_deg=32.76", "material.i0=0.279",
+               "material.grain_diameter=0.00053"]
+# mu_start at the avalanche angle; tau_m = tau_r = 0.02 s (about 3 sqrt(d/g)) and the
+# threshold 1 1/s (benchmarks/hysteresis.py) are the option's defaults
+HYSTERETIC = [*GLASS_BEADS, "material.friction=hysteretic",
+              "material.start_friction_angle_deg=25.5"]
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
     # angle), eta = 1 Pa s
@@ -52,6 +60,22 @@ VARIANTS = {
                    "boundary.bed_friction_deg=23.5"],
     "loose-layer": ["layer.density=1450", "layer.friction_angle_deg=23.5"],  # packing 0.58
     "side-walls": ["boundary.channel_width=0.1"],        # the experiments' 10 cm channel
+    # column and layer of the glass beads of Jop, Forterre & Pouliquen (2005, J. Fluid Mech.
+    # 541, d = 0.53 mm; 2006, Nature 441): mu(I) from tan 20.9 to tan 32.76 deg, I0 = 0.279;
+    # the rigid bed's Coulomb friction kept at 25.5 deg
+    "glass-beads": GLASS_BEADS,
+    # the same beads flowing, starting at their avalanche angle (module docstring)
+    "hysteretic": HYSTERETIC,
+    # the chosen parameters of the hysteretic law, each by a factor of two (the start
+    # angle by 2 deg), for one slope and layer
+    "hysteretic-tau-x2": [*HYSTERETIC, "material.mobilisation_time=0.04",
+                          "material.rest_time=0.04"],
+    "hysteretic-tau-half": [*HYSTERETIC, "material.mobilisation_time=0.01",
+                            "material.rest_time=0.01"],
+    "hysteretic-rate-x2": [*HYSTERETIC, "material.mobilisation_shear_rate=2.0"],
+    "hysteretic-rate-half": [*HYSTERETIC, "material.mobilisation_shear_rate=0.5"],
+    "hysteretic-start-27.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=27.5"],
+    "hysteretic-start-23.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=23.5"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
@@ -83,9 +107,12 @@ def overrides(variant: str, shape: str, he: float, slope: float,
 
 
 def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
-        out: Path, cells: int = CELLS) -> dict:
-    """One run: kept when finished, continued from its checkpoint, else run afresh."""
+        out: Path, cells: int = CELLS, done: dict | None = None) -> dict:
+    """One run: kept when finished (``done``, its row in the JSON, with the same overrides;
+    else its folder), continued from its checkpoint, else run afresh."""
     found = overrides(variant, shape, he, slope, rigid, cells)
+    if done and done.get("status") in FINISHED and done.get("overrides", found) == found:
+        return done
     summary = run_or_continue(SCENARIO[shape], found, out)
     return row_of(summary, out) | {"overrides": found}
 
@@ -102,18 +129,29 @@ def runout(row: dict) -> float | None:
     return row.get("runout_m") if settled else None
 
 
-def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, bool]:
-    """The erodible row's settled runout over its rigid twin's, and whether that is only an
-    upper bound: where the rigid front was still moving at t_end, the ratio to where it was
-    then (it only goes further). None for a rigid row or one not settled."""
+def front(row: dict) -> float | None:
+    """The front at t_end of a run that reached it still moving (None otherwise)."""
+    return row.get("runout_m") if row.get("status") == "completed" else None
+
+
+def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, str]:
+    """The erodible row's runout over its rigid twin's, and what it is: "" both settled;
+    "≤" an upper bound, the rigid front still moving at t_end (it only goes further); "≥" a
+    lower bound, the erodible front still moving; "≈" both moving, their fronts at t_end.
+    None for a rigid row or one that failed."""
     rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
     x, x0 = runout(row), runout(rigid)
-    if row["he"] == 0 or x is None:
-        return None, False
+    if row["he"] == 0:
+        return None, ""
+    if x is not None:
+        if x0:
+            return x / x0, ""
+        return (x / front(rigid), "≤") if front(rigid) else (None, "")
+    if front(row) is None:
+        return None, ""
     if x0:
-        return x / x0, False
-    moving = rigid.get("runout_m") if rigid.get("status") == "completed" else None
-    return (x / moving, True) if moving else (None, False)
+        return front(row) / x0, "≥"
+    return (front(row) / front(rigid), "≈") if front(rigid) else (None, "")
 
 
 def table(results: dict[str, dict]) -> str:
@@ -126,7 +164,7 @@ def table(results: dict[str, dict]) -> str:
                                                       r["he"], r.get("cells", CELLS))):
         x = runout(r)
         value, bound = ratio(results, r)
-        shown = "-" if value is None else ("≤ " if bound else "") + f"{value:.3f}"
+        shown = "-" if value is None else f"{bound} {value:.3f}".strip()
 
         def num(v: float | None, fmt: str, scale: float = 1.0) -> str:
             return "-" if v is None else format(scale * v, fmt)
@@ -134,7 +172,8 @@ def table(results: dict[str, dict]) -> str:
         lines.append("| " + " | ".join([
             r["variant"], r["shape"], f"{r['slope']:g}", f"{1e3 * r['he']:g}",
             str(r.get("cells", CELLS)) if r["he"] > 0 else "-",
-            num(x, ".3f") if x else f"{r['status']} at {r['t_final']:.2f} s", shown,
+            num(x, ".3f") if x else f"≥ {front(r):.3f}, moving at {r['t_final']:.2f} s"
+            if front(r) else f"{r['status']} at {r['t_final']:.2f} s", shown,
             num(r.get("duration_s"), ".3f"), num(r.get("stop_time_s"), ".3f"),
             num(r.get("layer_displaced_area_m2"), ".2e"),
             num(r.get("erosion_depth_max_m"), ".1f", 1e3),
@@ -145,7 +184,8 @@ def table(results: dict[str, dict]) -> str:
 def ratio_table(results: dict[str, dict]) -> str:
     """One line per variant, column, layer and resolution, one column per slope: the
     erodible runout (m), its ratio to the rigid bed's and the flow duration (s); a run whose
-    front had not settled gives its front at the end, marked still moving."""
+    front had not settled gives its front at the end, marked still moving, and the ratio
+    marked as ``ratio`` says."""
     slopes = sorted({r["slope"] for r in results.values()})
     lines = ["| variant | column | layer (mm) | cells | "
              + " | ".join(f"{s:g}°" for s in slopes) + " |", "|" + "---|" * (4 + len(slopes))]
@@ -154,15 +194,14 @@ def ratio_table(results: dict[str, dict]) -> str:
         if r["he"] == 0:
             continue
         x = runout(r)
+        value, bound = ratio(results, r)
+        shown = "" if value is None else {
+            "": f" ({value:.2f})", "≤": f" (≤ {value:.2f}, rigid moving at t_end)",
+            "≥": f" (≥ {value:.2f})", "≈": f" (≈ {value:.2f}, rigid moving too)"}[bound]
         if x is None:
-            front = r.get("runout_m")
-            cell = (f"≥ {front:.3f}, moving at {r['t_final']:.1f} s"
-                    if front and r["status"] == "completed"
+            cell = (f"≥ {front(r):.3f}, moving at {r['t_final']:.1f} s{shown}" if front(r)
                     else f"{r['status']} at {r['t_final']:.2f} s")
         else:
-            value, bound = ratio(results, r)
-            shown = ("" if value is None else f" (≤ {value:.2f}, rigid moving at t_end)"
-                     if bound else f" ({value:.2f})")
             duration = r.get("duration_s")
             cell = f"{x:.3f}{shown}" + (f", {duration:.2f} s" if duration else "")
         group = (r["variant"], r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
@@ -173,41 +212,62 @@ def ratio_table(results: dict[str, dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def panel(variant: str, shape: str, he: float) -> int:
+    """Which panel of the figure draws a row: 0 the constant-friction ingredients on the
+    rectangle over 5 mm, 1 Drucker-Prager's thicknesses and columns, 2 the glass beads'
+    mu(I) and the hysteretic friction (-1: Drucker-Prager's 5 mm rectangle is on 0 and 1)."""
+    if variant == "glass-beads" or variant.startswith("hysteretic"):
+        return 2
+    if variant == "drucker-prager":
+        return -1 if (shape, he) == ("rectangle", 0.005) else 1
+    return 0
+
+
+BOUND_MARKERS = {"≤": ("v", "upper bound: rigid front still moving at 3 s"),
+                 "≥": ("^", "lower bound: erodible front still moving at 3 s"),
+                 "≈": ("o", "both fronts still moving at 3 s: ratio of the fronts then")}
+
+
 def figure(results: dict[str, dict], path: Path) -> None:
     """Erodible/rigid runout ratio against slope over the experiments' trend (no change
-    below the critical slope, up to +40 % near repose): left, each ingredient on the
-    rectangle over 5 mm; right, the layer's thickness and the column's shape. An open
-    triangle is an upper bound: the rigid front was still moving at t_end."""
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    groups: dict[tuple, list[tuple[float, float, bool]]] = {}
+    below the critical slope, up to +40 % near repose): left, each constant-friction
+    ingredient on the rectangle over 5 mm; middle, the layer's thickness and the column's
+    shape; right, the glass beads' mu(I) and the hysteretic friction (a variant at one
+    slope, the parameters varied, as a lone marker). Open markers are bounds (``ratio``):
+    down, the rigid front was still moving at t_end; up, the erodible one; a circle, both."""
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.6), sharey=True)
+    groups: dict[tuple, list[tuple[float, float, str]]] = {}
     for r in results.values():
         value, bound = ratio(results, r)
         if value is not None:
             group = (r["variant"], r["shape"], r["he"], r.get("cells", CELLS))
             groups.setdefault(group, []).append((r["slope"], value, bound))
     for (variant, shape, he, cells), points in sorted(groups.items()):
-        ingredient = shape == "rectangle" and he == 0.005    # left; right: thickness, shape
-        geometry = variant == "drucker-prager"
-        style = "o-" if cells == 1 else "s--"
+        where = panel(variant, shape, he)
+        style = ("o-" if cells == 1 else "s--") if len(points) > 1 else "D"
         points.sort()
         label = f"{variant}, {shape}, {1e3 * he:g} mm, {cells} cell{'s' * (cells > 1)}"
         slopes, ratios, _ = zip(*points, strict=True)
-        marked = [(s, q) for s, q, bound in points if bound]
-        for ax, show in zip(axes, (ingredient, geometry), strict=True):
-            if show:
-                line, = ax.plot(slopes, ratios, style, ms=3, label=label)
-                if marked:
-                    ax.plot(*zip(*marked, strict=True), "v", ms=7, mfc="none",
-                            color=line.get_color())
-    for ax, title in zip(axes, ("ingredients (rectangle, 5 mm layer)",
-                                "layer thickness and column (Drucker-Prager)"), strict=True):
+        marked = {kind: [(s, q) for s, q, bound in points if bound == kind]
+                  for kind in BOUND_MARKERS}
+        for i, ax in enumerate(axes):
+            if where == i or (where == -1 and i < 2):
+                line, = ax.plot(slopes, ratios, style, ms=3 if len(points) > 1 else 5,
+                                label=label)
+                for kind, found in marked.items():
+                    if found:
+                        ax.plot(*zip(*found, strict=True), BOUND_MARKERS[kind][0], ms=7,
+                                mfc="none", color=line.get_color())
+    for ax, title in zip(axes, ("constant friction (rectangle, 5 mm layer)",
+                                "layer thickness and column (Drucker-Prager)",
+                                "glass beads' mu(I), hysteretic friction"), strict=True):
         ax.axhline(1.0, color="0.5", lw=0.8)
         ax.fill_between([16, 23.5], [1.0, 1.0], [1.0, 1.4], color="0.85",
                         label="experiments: up to +40 % above ~16 deg")
-        ax.plot([], [], "v", ms=7, mfc="none", color="0.3",
-                label="upper bound: rigid front still moving at 3 s")
+        for marker, meaning in BOUND_MARKERS.values():
+            ax.plot([], [], marker, ms=7, mfc="none", color="0.3", label=meaning)
         ax.set(xlabel="slope (deg)", title=title)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=6)
     axes[0].set_ylabel("runout erodible / rigid")
     save_figure(fig, path)
 
@@ -254,7 +314,8 @@ def main() -> None:
                         row = row_of(summary, folder)
                     else:
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
-                        row = run(variant, shape, he, slope, rigid, folder, args.cells)
+                        row = run(variant, shape, he, slope, rigid, folder, args.cells,
+                                  results.get(name))
                     results[name] = row | {"variant": variant, "shape": shape,
                                            "slope": slope, "he": he, "cells": args.cells}
                     print(name, json.dumps(results[name]), flush=True)
