@@ -30,9 +30,9 @@ import numpy as np
 from granflow.io.run_dir import atomic_write_text
 from granflow.io.vtk import read_snapshot, snapshots
 
-RUNS = ["hysteretic/rectangle-0mm-22", "hysteretic/rectangle-5mm-22",
-        "hysteretic/rectangle-0mm-19", "hysteretic/rectangle-5mm-19",
-        "glass-beads/rectangle-0mm-19", "glass-beads/rectangle-5mm-19"]
+RUNS = [f"hysteretic/rectangle-{he}mm-{slope}" for slope in (22, 16)
+        for he in ("0", "2.5", "5", "10")] + [
+    "glass-beads/rectangle-0mm-19", "glass-beads/rectangle-5mm-19"]
 BAND = 0.005     # a rigid run's band (m): the thickness of the study's default layer
 
 
