@@ -76,6 +76,9 @@ VARIANTS = {
     "hysteretic-rate-half": [*HYSTERETIC, "material.mobilisation_shear_rate=0.5"],
     "hysteretic-start-27.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=27.5"],
     "hysteretic-start-23.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=23.5"],
+    # the regularising viscosity eta / 100 (column and layer): what the sheared layer's
+    # viscous share does to the ratio (benchmarks/erosion_slopes_stress.py)
+    "hysteretic-small-eta": [*HYSTERETIC, "material.viscosity=0.01"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}

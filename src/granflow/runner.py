@@ -245,6 +245,7 @@ class _Run:
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
             "unconverged_steps": result.unconverged_steps,
             "skipped_remeshes": result.skipped_remeshes,
+            "history_restarts": result.history_restarts,   # surface tension on/off
             "nonlinear_iterations": result.nonlinear_iterations,
             "linear_solves": result.linear_solves,
             "wall_time_s": result.wall_time_s,

@@ -1,6 +1,7 @@
 """The first iterate of a step (``numerics.initial_guess``): "auto" starts from
 whichever of (u^n, p^n) and the linear extrapolation predicted the last accepted step
-better."""
+better; after a restart of the history (a jump of the forcing) every choice starts from
+(u^n, p^n) and the step has no error estimate."""
 
 from __future__ import annotations
 
@@ -63,3 +64,15 @@ def test_auto_starts_the_step_from_the_chosen_guess() -> None:
     s.solve_step(DT, 1e-6, 1)
     u = s.solution.components[0]
     assert ngs.Integrate(u[0], s.mesh) / s.volume() == pytest.approx(1.0, rel=1e-12)
+
+
+def test_a_restarted_history_starts_from_the_last_state_without_an_estimate() -> None:
+    s = _solver("extrapolated")
+    _history(s, (0.0, 1.0, 2.0))   # u^n = 2, u^{n-1} = 1: the extrapolation gives 3
+    assert s.local_error(DT) is not None
+    s.restart_history()
+    assert s.local_error(DT) is None
+    s.nonlinear.solve_picard = lambda *args: None
+    s.solve_step(DT, 1e-6, 1)
+    u = s.solution.components[0]
+    assert ngs.Integrate(u[0], s.mesh) / s.volume() == pytest.approx(2.0, rel=1e-12)

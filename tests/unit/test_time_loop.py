@@ -1,5 +1,6 @@
 """The time loop's handling of failed moves: remesh once, then smaller steps, then a
-clear failure naming the time, the step and what to change."""
+clear failure naming the time, the step and what to change; and its restart of the
+solver's history when a move switches a forcing."""
 
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ class StubSolver:
 
     def accept(self, dt: float | None = None) -> None: ...
     def reject(self) -> None: ...
+    def restart_history(self) -> None: ...
 
 
 @dataclass
@@ -46,6 +48,9 @@ class FoldingMotion:
 
     def undo(self) -> None: ...
     def after_accept(self) -> None: ...
+
+    def forcing_jumped(self) -> bool:
+        return False
 
 
 @dataclass
@@ -141,3 +146,35 @@ def test_the_stall_test_leaves_small_steps_the_policy_chose_alone(policy: str) -
     result = sim.run()
     assert result.status == "completed", result.message
     assert result.steps > 2 * STALL_STEPS          # many small steps, none of them stalled
+
+
+class RecordingSolver(StubSolver):
+    def __init__(self) -> None:
+        self.events: list[str] = []
+
+    def solve_step(self, dt: float, tol: float, max_iterations: int,
+                   velocity_floor: float = 0.0) -> IterationReport:
+        self.events.append("solve")
+        return super().solve_step(dt, tol, max_iterations, velocity_floor)
+
+    def restart_history(self) -> None:
+        self.events.append("restart")
+
+
+@dataclass
+class SwitchingMotion(FoldingMotion):
+    """Switches a forcing (the surface tension) on at its 3rd move and off at its 7th."""
+
+    def forcing_jumped(self) -> bool:
+        return self.moves in (3, 7)
+
+
+def test_a_move_that_switches_the_forcing_restarts_the_history_before_the_solve() -> None:
+    solver = RecordingSolver()
+    sim = Simulation(solver=solver, steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                     t_end=0.01, max_iterations=10, mesh_motion=SwitchingMotion(failures=0))
+    result = sim.run()
+    assert result.status == "completed" and result.history_restarts == 2
+    assert solver.events[:4] == ["solve", "solve", "restart", "solve"]
+    assert solver.events.count("restart") == 2 and solver.events.count("solve") == 10
+    assert sim.save_state()["history_restarts"] == 2

@@ -110,3 +110,21 @@ def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -
     assert twin.mover.initial_area == ahead.mover.initial_area
     assert (twin.remesher.lengthenings, twin.remesher.added) == (
         ahead.remesher.lengthenings, ahead.remesher.added)
+
+
+def test_a_layer_stronger_than_the_column_runs_at_a_few_times_its_cost() -> None:
+    """A 60-degree layer under the 25.5-degree column (mesh 6 cm, to 0.08 s, the defaults
+    otherwise): the surface tension switches where the column's foot meets the strong
+    layer, each switch restarts the solver's history, and the run costs at most 5 times the
+    one-material run's iterations (measured 861 against 232; 2,297 without the restart,
+    when it was down to steps of 6e-8 s before the iteration was mixed)."""
+    base = ["mesh.size=0.06", "time.t_end=0.08", "time.output_times=[]"]
+    results = {}
+    for friction in (25.5, 60.0):
+        problem = build_column(load_config(
+            "trapezoid-erodible", [*base, f"layer.friction_angle_deg={friction}"]))
+        results[friction] = problem.simulation.run()
+        assert results[friction].status == "completed", results[friction].message
+    strong, one = results[60.0], results[25.5]
+    assert strong.history_restarts >= 2
+    assert strong.nonlinear_iterations <= 5 * one.nonlinear_iterations

@@ -42,7 +42,7 @@ from granflow.ale.mesh_motion import (
     VelocityHistory,
 )
 from granflow.ale.remesh import straddled_corners
-from granflow.ale.surface_tension import SurfaceTension
+from granflow.ale.surface_tension import SurfaceTension, TensionState
 from granflow.fem.sampling import triangles
 from granflow.geometry.gate import Gate
 from granflow.geometry.labels import BED, END, GATE, SURFACE, WALL
@@ -77,6 +77,8 @@ class ColumnMover(AleMover):
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
         self.relabelled_segments = 0
         self.limited_steps = 0
+        self._tension_switched = False   # the last move switched the surface tension
+        self._tension_accepted: TensionState | None = None   # its state before that move
         # the volume fix: relative area restored at the last move, and summed over the run
         # (|.| and signed), so that a volume error of 0 by construction says what it cost
         self.step_correction = 0.0
@@ -179,8 +181,22 @@ class ColumnMover(AleMover):
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             self.step_correction = conserve_area(xy, self.chain.segments, movable,
                                                  self.initial_area, measure=self.measure)
+        self._tension_switched = False
         if self.tension is not None:
+            self._tension_accepted = copy.copy(self.tension.state)
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
+            self._tension_switched = self.tension.state.active != self._tension_accepted.active
+
+    def undo(self) -> None:
+        """Back to the accepted mesh, and the surface tension's switch with it: a retry
+        decides on and off (and whether that is a jump) from the last accepted step."""
+        super().undo()
+        if self.tension is not None and self._tension_accepted is not None:
+            self.tension.state = self._tension_accepted
+
+    def forcing_jumped(self) -> bool:
+        """Whether the last move switched the surface tension on or off."""
+        return self._tension_switched
 
     def pressure_under(self, vertices: np.ndarray) -> float:
         """Mean pressure p^n over the triangles with an edge between two of ``vertices``
@@ -227,6 +243,7 @@ class ColumnMover(AleMover):
         self.correction_net += self.step_correction
         if self.tension is not None and self.tension.state.active:
             self.tension.state.active_steps += 1
+        self._tension_accepted = None
         self.relabelled_segments += relabel_deposited(self.chain, 1e-12, self.support)
         self.clock += self._dt
         if self.gate is not None:

@@ -224,6 +224,10 @@ class AleMover:
         if self._saved is not None:
             self.mesh.ngmesh.Coordinates()[:] = self._saved
 
+    def forcing_jumped(self) -> bool:
+        """Whether the last move switched a boundary forcing on or off (none here)."""
+        return False
+
     def after_accept(self) -> None:
         self.w_vertices = None
         self._parts = None

@@ -230,6 +230,12 @@ class FlowSolver:
         if self.augmented is not None:
             self.augmented.restore()
 
+    def restart_history(self) -> None:
+        """Forget (u^{n-1}, p^{n-1}): the forcing jumped, so the next step is a first step
+        (implicit Euler from (u^n, p^n), no local error estimate) as after ``set_state``."""
+        self.scheme.set_initial()
+        self.solution.vec.data = self.previous.vec
+
     def save_history(self) -> dict[str, object]:
         """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the
         augmented Lagrangian's d and lambda, its next step's starting point)."""
