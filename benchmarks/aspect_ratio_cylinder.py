@@ -1,11 +1,13 @@
 """Benchmark: cylinders of aspect ratio a = h0/r0 from 0.5 to 6 (axisymmetric, r0 = 10 cm)
 against the laws of laboratory cylinders, beside the plane-strain study.
 
-Run: python benchmarks/aspect_ratio_cylinder.py [--workers 2]
+Run: python benchmarks/aspect_ratio_cylinder.py [--study aspect-ratio-cylinder] [--workers 2]
          [--out benchmarks/results/aspect_ratio_cylinder] [--analyse-only]
 
-Runs `granflow sweep aspect-ratio-cylinder` (cylinder-rigid, 8 cells across the smaller
-side, to rest) into OUT/sweep, then writes OUT/aspect_ratio.json and .md (a, the normalised
+Runs `granflow sweep STUDY` (cylinder-rigid, 8 cells across the smaller side, to rest; the
+paper's material, or with `aspect-ratio-cylinder-hysteretic` the slope study's hysteretic
+glass beads, whose default OUT is benchmarks/results/aspect_ratio_cylinder_hysteretic) into
+OUT/sweep, then writes OUT/aspect_ratio.json and .md (a, the normalised
 runout (r_inf - r0)/r0, the final height on the axis h_inf/r0, the stop time in s and in
 units of sqrt(h0/g)) with least-squares power laws k a^n (all runs, and a >= 1.7), and
 OUT/aspect_ratio.png (log-log) with:
@@ -18,8 +20,9 @@ OUT/aspect_ratio.png (log-log) with:
   saturates near 0.74 r0 (the prefactor of its a^(1/2) branch differs between the quotes
   found, 1.35 or 2.0, so only the exponent is drawn, through our point nearest a = 2; the
   height saturation is quoted from their 2005 paper by some sources);
-- granflow's plane-strain study (benchmarks/results/aspect_ratio: rectangles of half-width
-  l0 = 10 cm, the same material and relative resolution), when present.
+- granflow's plane-strain study (benchmarks/results/aspect_ratio, or aspect_ratio_hysteretic:
+  rectangles of half-width l0 = 10 cm, the same material and relative resolution), when
+  present.
 
 With --resolution, the columns of a = 1 and a = 4 are also run with 16 cells across
 (OUT/fine) and OUT/resolution.json gives the change of runout and final height from 8 to 16
@@ -42,11 +45,15 @@ from granflow.io.plots import save_figure
 from granflow.io.run_dir import atomic_write_text
 
 STUDY = "aspect-ratio-cylinder"
+# study -> (its material in the figure's title, the plane-strain study beside it)
+STUDIES = {
+    STUDY: ("the paper's Drucker-Prager material", "aspect_ratio"),
+    "aspect-ratio-cylinder-hysteretic": ("hysteretic glass beads (mu(I) flowing, starting at "
+                                         "25.5 deg)", "aspect_ratio_hysteretic"),
+}
 STUDY_BASE = "cylinder-rigid"
-STUDY_SET = {"geometry.width": 0.1, "time.t_end": 3.0, "time.output_times": []}
 RADIUS = 0.1            # r0 of the study (m)
 GRAVITY = 9.81
-PLANE = Path("benchmarks/results/aspect_ratio/aspect_ratio.json")
 LUBE_CROSSOVER = 1.7
 LAJEUNESSE_CROSSOVER, LAJEUNESSE_HEIGHT = 0.74, 0.74
 
@@ -61,9 +68,13 @@ def lajeunesse_height(a: np.ndarray) -> np.ndarray:
     return np.where(a < LAJEUNESSE_CROSSOVER, a, LAJEUNESSE_HEIGHT)
 
 
-def resolution(out: Path, heights: tuple[float, ...] = (0.1, 0.4), cells: int = 16) -> dict:
+def resolution(out: Path, study: str = STUDY, heights: tuple[float, ...] = (0.1, 0.4),
+               cells: int = 16) -> dict:
     """Runout and axis height at ``cells`` across against the study's 8, for ``heights``."""
     import granflow
+    from granflow.sweep import load_sweep
+
+    fixed = [*load_sweep(study).fixed, f"mesh.cells_across={cells}"]
 
     with open(out / "sweep" / "sweep.csv", newline="") as fh:
         coarse = {float(r["geometry.height"]): r for r in csv.DictReader(fh)}
@@ -71,8 +82,8 @@ def resolution(out: Path, heights: tuple[float, ...] = (0.1, 0.4), cells: int = 
     for h0 in heights:
         folder = out / "fine" / f"height-{h0:g}"
         if not (folder / "summary.json").is_file():
-            granflow.run(STUDY_BASE, overrides={**STUDY_SET, "mesh.cells_across": cells,
-                                                "geometry.height": h0}, out=folder, force=True)
+            granflow.run(STUDY_BASE, overrides=[*fixed, f"geometry.height={h0!r}"], out=folder,
+                         force=True)
         fine = json.loads((folder / "summary.json").read_text())
         c = coarse[h0]
         rows.append({"a": h0 / RADIUS, "cells_across": [8, cells],
@@ -88,7 +99,7 @@ def resolution(out: Path, heights: tuple[float, ...] = (0.1, 0.4), cells: int = 
     return {"rows": rows}
 
 
-def analyse(out: Path) -> dict:
+def analyse(out: Path, study: str = STUDY) -> dict:
     with open(out / "sweep" / "sweep.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     done = [r for r in rows if r["status"] in ("completed", "stopped")]
@@ -108,7 +119,7 @@ def analyse(out: Path) -> dict:
     if (a >= 1).sum() >= 2:
         fits["height_a>=1"] = power_fit(a[a >= 1], height[a >= 1])
     result = {
-        "study": STUDY, "runs": len(rows), "failed": len(rows) - len(done),
+        "study": study, "runs": len(rows), "failed": len(rows) - len(done),
         "statuses": sorted({r["status"] for r in rows}),
         "a": a.tolist(), "normalised_runout": runout.tolist(), "final_height": height.tolist(),
         "stop_time_s": stop, "stop_time_over_sqrt_h0_g": scaled_stop,
@@ -118,7 +129,7 @@ def analyse(out: Path) -> dict:
         "lajeunesse_height": lajeunesse_height(a).tolist(),
     }
     fmt = lambda x: "-" if x is None else f"{x:.3f}"  # noqa: E731
-    lines = [f"Study `{STUDY}`: {len(done)} of {len(rows)} runs finished.", "",
+    lines = [f"Study `{study}`: {len(done)} of {len(rows)} runs finished.", "",
              "| a = h0/r0 | (r_inf - r0)/r0 | Lube 2004 (quoted) | ratio | h_inf/r0 "
              "| Lajeunesse (quoted) | stop (s) | stop / sqrt(h0/g) |",
              "|---|---|---|---|---|---|---|---|"]
@@ -131,14 +142,17 @@ def analyse(out: Path) -> dict:
     lines += [f"fit {name}: {k:.3f} a^{n:.3f}" for name, (k, n) in fits.items()]
     atomic_write_text(out / "aspect_ratio.md", "\n".join(lines) + "\n")
     atomic_write_text(out / "aspect_ratio.json", json.dumps(result, indent=2))
-    plot(out, a, runout, height, fits["runout_all"])
+    plot(out, study, a, runout, height, fits["runout_all"])
     print("\n".join(lines))
     return result
 
 
-def plot(out: Path, a: np.ndarray, runout: np.ndarray, height: np.ndarray,
+def plot(out: Path, study: str, a: np.ndarray, runout: np.ndarray, height: np.ndarray,
          fit: tuple[float, float]) -> None:
     import matplotlib.pyplot as plt
+
+    material, plane_study = STUDIES[study]
+    plane_file = Path("benchmarks/results") / plane_study / "aspect_ratio.json"
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     ref = np.geomspace(min(a.min(), 0.5), max(a.max(), 6.0), 200)
@@ -153,8 +167,8 @@ def plot(out: Path, a: np.ndarray, runout: np.ndarray, height: np.ndarray,
     ax2.loglog(a, height, "ko", label="granflow, cylinders (height on the axis)")
     ax2.loglog(ref, lajeunesse_height(ref), "-", color="tab:red", lw=1.5,
                label="a, then 0.74 (Lajeunesse et al., as quoted)")
-    if PLANE.is_file():
-        plane = json.loads(PLANE.read_text())
+    if plane_file.is_file():
+        plane = json.loads(plane_file.read_text())
         ax1.loglog(plane["a"], plane["normalised_runout"], "s", color="0.6", mfc="none",
                    label="granflow, plane strain (rectangles, l0 = 10 cm)")
         ax2.loglog(plane["a"], plane["final_height"], "s", color="0.6", mfc="none",
@@ -164,26 +178,28 @@ def plot(out: Path, a: np.ndarray, runout: np.ndarray, height: np.ndarray,
     for ax in (ax1, ax2):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle("Axisymmetric columns, r0 = 10 cm, the paper's Drucker-Prager material on a "
-                 "rigid bed (8 cells across the smaller side)", fontsize=9)
+    fig.suptitle(f"Axisymmetric columns, r0 = 10 cm, {material} on a rigid bed (8 cells "
+                 "across the smaller side)", fontsize=9)
     fig.tight_layout()
     save_figure(fig, out / "aspect_ratio.png", dpi=120)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--study", default=STUDY, choices=list(STUDIES))
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--out", type=Path,
-                        default=Path("benchmarks/results/aspect_ratio_cylinder"))
+    parser.add_argument("--out", type=Path, default=None,
+                        help="default benchmarks/results/<study with _ for ->")
     parser.add_argument("--analyse-only", action="store_true")
     parser.add_argument("--resolution", action="store_true",
                         help="also run a = 1 and 4 with 16 cells across (OUT/resolution.json)")
     args = parser.parse_args()
+    args.out = args.out or Path("benchmarks/results") / args.study.replace("-", "_")
     if not args.analyse_only:
-        run_study(STUDY, args.out, args.workers)
-    analyse(args.out)
+        run_study(args.study, args.out, args.workers)
+    analyse(args.out, args.study)
     if args.resolution:
-        resolution(args.out)
+        resolution(args.out, args.study)
 
 
 if __name__ == "__main__":
