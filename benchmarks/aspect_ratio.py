@@ -6,8 +6,9 @@ Run: python benchmarks/aspect_ratio.py [--study aspect-ratio] [--workers 2]
 Runs `granflow sweep STUDY` (rectangles, l0 = 10 cm, h0/l0 from 0.5 to 4, 8 cells across
 the smaller side; `aspect-ratio` on the rigid bed, `aspect-ratio-slope10` on a 10 deg bed,
 `aspect-ratio-erodible` over a 5 mm layer, a = column height above the layer / l0,
-`aspect-ratio-mu-i` the rigid bed with mu(I), `aspect-ratio-hysteretic` with the slope
-study's hysteretic glass beads) on a
+`aspect-ratio-mu-i` the rigid bed with mu(I), `aspect-ratio-glass-beads` and
+`aspect-ratio-hysteretic` with the slope study's glass beads, one friction or starting
+harder than they flow) on a
 LocalCluster of --workers processes into OUT/sweep, then writes OUT/aspect_ratio.json and
 .md (a, normalised runout (r_inf - l0)/l0, final height h_inf/l0 (the deposit's height at
 the wall, above the layer), stop time) with the least-squares power law
@@ -149,7 +150,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--study", default="aspect-ratio",
                         choices=["aspect-ratio", "aspect-ratio-slope10", "aspect-ratio-erodible",
-                                 "aspect-ratio-mu-i", "aspect-ratio-hysteretic"])
+                                 "aspect-ratio-mu-i", "aspect-ratio-glass-beads",
+                                 "aspect-ratio-hysteretic"])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=None,
                         help="default benchmarks/results/<study with _ for ->")
