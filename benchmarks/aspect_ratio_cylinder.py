@@ -5,12 +5,12 @@ Run: python benchmarks/aspect_ratio_cylinder.py [--study aspect-ratio-cylinder] 
          [--out benchmarks/results/aspect_ratio_cylinder] [--analyse-only]
 
 Runs `granflow sweep STUDY` (cylinder-rigid, 8 cells across the smaller side, to rest; the
-paper's material, or with `aspect-ratio-cylinder-hysteretic` the slope study's hysteretic
-glass beads, whose default OUT is benchmarks/results/aspect_ratio_cylinder_hysteretic) into
-OUT/sweep, then writes OUT/aspect_ratio.json and .md (a, the normalised
-runout (r_inf - r0)/r0, the final height on the axis h_inf/r0, the stop time in s and in
-units of sqrt(h0/g)) with least-squares power laws k a^n (all runs, and a >= 1.7), and
-OUT/aspect_ratio.png (log-log) with:
+paper's material, or the slope study's glass beads with `aspect-ratio-cylinder-glass-beads`
+and `aspect-ratio-cylinder-hysteretic`, whose default OUT is
+benchmarks/results/aspect_ratio_cylinder_glass_beads or _hysteretic) into OUT/sweep, then
+writes OUT/aspect_ratio.json and .md (a, the normalised runout (r_inf - r0)/r0, the final
+height on the axis h_inf/r0, the stop time in s and in units of sqrt(h0/g)) with least-
+squares power laws k a^n (all runs, and a >= 1.7), and OUT/aspect_ratio.png (log-log) with:
 
 - Lube, Huppert, Sparks and Hallworth (2004, J. Fluid Mech. 508, 175-199), as quoted in
   the literature (Staron and Hinch 2005; theses quoting them; the paper itself was not
@@ -20,7 +20,7 @@ OUT/aspect_ratio.png (log-log) with:
   saturates near 0.74 r0 (the prefactor of its a^(1/2) branch differs between the quotes
   found, 1.35 or 2.0, so only the exponent is drawn, through our point nearest a = 2; the
   height saturation is quoted from their 2005 paper by some sources);
-- granflow's plane-strain study (benchmarks/results/aspect_ratio, or aspect_ratio_hysteretic:
+- granflow's plane-strain study (benchmarks/results/aspect_ratio, or the glass beads':
   rectangles of half-width l0 = 10 cm, the same material and relative resolution), when
   present.
 
@@ -48,6 +48,8 @@ STUDY = "aspect-ratio-cylinder"
 # study -> (its material in the figure's title, the plane-strain study beside it)
 STUDIES = {
     STUDY: ("the paper's Drucker-Prager material", "aspect_ratio"),
+    "aspect-ratio-cylinder-glass-beads": ("glass beads (mu(I), one friction)",
+                                         "aspect_ratio_glass_beads"),
     "aspect-ratio-cylinder-hysteretic": ("hysteretic glass beads (mu(I) flowing, starting at "
                                          "25.5 deg)", "aspect_ratio_hysteretic"),
 }
