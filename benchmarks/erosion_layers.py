@@ -5,6 +5,7 @@ duration and eroded area it has converged.
 Run: python benchmarks/erosion_layers.py [--cells 2 4 8 16] [--aspects 1] [--slopes 0]
          [--scenario trapezoid-erodible] [--set key=value ...]
          [--out benchmarks/results/erosion_layers] [--collect]
+     python benchmarks/erosion_layers.py --against RUN_DIR [RUN_DIR ...] [--slopes 0]
 
 Each run goes to OUT/runs/slopeS-cellsN, a normal run directory, checkpointed every 100
 steps. A finished run is not run again, one with a checkpoint is resumed
@@ -13,7 +14,9 @@ steps. A finished run is not run again, one with a checkpoint is resumed
 summaries' figures, OUT/erosion_layers.md the table with each figure's change from the
 previous (coarser) level, then every run against the finest isotropic run of its slope (the
 reference) with the accuracy it must keep (ACCURACY: runout 0.5 %, flow duration 1 %,
-displaced and mobilised areas 1 % and 5 %).
+displaced and mobilised areas 1 % and 5 %). ``--against`` runs nothing: it compares the
+given run directories (e.g. `granflow run trapezoid-erodible` at its defaults) with that
+reference and writes OUT/against_reference.json.
 """
 
 from __future__ import annotations
@@ -122,6 +125,29 @@ def against_reference(results: dict[str, dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def against(dirs: list[Path], results: dict[str, dict], slope: float, out: Path) -> dict:
+    """Each run directory's ACCURACY figures relative to the finest isotropic run of
+    ``slope`` in ``results``, into OUT/against_reference.json (keyed by folder name)."""
+    isotropic = [r for r in results.values() if r.get("slope") == slope
+                 and r.get("aspect", 1.0) == 1 and r["status"] in ("completed", "stopped")]
+    ref = max(isotropic, key=lambda r: r["cells"])
+    found = json.loads((out / "against_reference.json").read_text()) if (
+        out / "against_reference.json").is_file() else {}
+    for folder in dirs:
+        summary = collected(folder)
+        if summary is None:
+            raise SystemExit(f"{folder}: no finished run there")
+        row = row_of(summary, folder, [])
+        rel = {k: (row[k] - ref[k]) / ref[k] for k in ACCURACY if row.get(k) and ref.get(k)}
+        found[folder.name] = {"reference": f"{ref['cells']} isotropic cells at {slope:g} deg",
+                              "n_triangles": row["n_triangles"], "relative": rel,
+                              "within": all(abs(rel.get(k, 1.0)) <= t
+                                            for k, t in ACCURACY.items())}
+        print(folder.name, json.dumps(found[folder.name]), flush=True)
+    atomic_write_text(out / "against_reference.json", json.dumps(found, indent=2))
+    return found
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", type=int, nargs="+", default=[2, 4, 8, 16])
@@ -131,9 +157,13 @@ def main() -> None:
     parser.add_argument("--set", dest="overrides", action="append", default=[])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_layers"))
     parser.add_argument("--collect", action="store_true")
+    parser.add_argument("--against", type=Path, nargs="+", default=[], metavar="RUN_DIR")
     args = parser.parse_args()
     results_file = args.out / "erosion_layers.json"
     results = json.loads(results_file.read_text()) if results_file.is_file() else {}
+    if args.against:
+        against(args.against, results, args.slopes[0], args.out)
+        return
     levels = [(s, c, a) for s in args.slopes for a in args.aspects for c in args.cells]
     for slope, cells, aspect in levels:
         name = run_name(slope, cells, aspect)
