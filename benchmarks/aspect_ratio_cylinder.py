@@ -53,7 +53,6 @@ STUDIES = {
     "aspect-ratio-cylinder-hysteretic": ("hysteretic glass beads (mu(I) flowing, starting at "
                                          "25.5 deg)", "aspect_ratio_hysteretic"),
 }
-STUDY_BASE = "cylinder-rigid"
 RADIUS = 0.1            # r0 of the study (m)
 GRAVITY = 9.81
 LUBE_CROSSOVER = 1.7
@@ -76,7 +75,8 @@ def resolution(out: Path, study: str = STUDY, heights: tuple[float, ...] = (0.1,
     import granflow
     from granflow.sweep import load_sweep
 
-    fixed = [*load_sweep(study).fixed, f"mesh.cells_across={cells}"]
+    sweep = load_sweep(study)
+    fixed = [*sweep.fixed, f"mesh.cells_across={cells}"]
 
     with open(out / "sweep" / "sweep.csv", newline="") as fh:
         coarse = {float(r["geometry.height"]): r for r in csv.DictReader(fh)}
@@ -84,7 +84,7 @@ def resolution(out: Path, study: str = STUDY, heights: tuple[float, ...] = (0.1,
     for h0 in heights:
         folder = out / "fine" / f"height-{h0:g}"
         if not (folder / "summary.json").is_file():
-            granflow.run(STUDY_BASE, overrides=[*fixed, f"geometry.height={h0!r}"], out=folder,
+            granflow.run(sweep.base, overrides=[*fixed, f"geometry.height={h0!r}"], out=folder,
                          force=True)
         fine = json.loads((folder / "summary.json").read_text())
         c = coarse[h0]

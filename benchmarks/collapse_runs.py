@@ -21,15 +21,13 @@ from common.runs import COLLAPSE_KEYS, run_variant, surfaces_m
 
 from granflow.io.run_dir import RunDir, atomic_write_text
 
-COUNTERS = ["history_restarts"]   # besides COLLAPSE_KEYS
-
 
 def compare(before: str, after: str, scenarios: list[str], out: Path) -> dict:
     """OUT/BEFORE/SCENARIO against OUT/AFTER/SCENARIO, into OUT/BEFORE-vs-AFTER.json."""
     result = {}
     for name in scenarios:
         first, second = out / before / name, out / after / name
-        figures = {tag: {k: RunDir.summary(root).get(k) for k in [*COLLAPSE_KEYS, *COUNTERS]}
+        figures = {tag: {k: RunDir.summary(root).get(k) for k in COLLAPSE_KEYS}
                    for tag, root in ((before, first), (after, second))}
         result[name] = figures | {"free_surfaces": surfaces_m(first, second)}
         print(name, json.dumps(result[name], indent=1), flush=True)

@@ -32,7 +32,8 @@ from granflow.io.vtk import read_snapshot, snapshots
 
 RUNS = [f"hysteretic/rectangle-{he}mm-{slope}" for slope in (22, 16)
         for he in ("0", "2.5", "5", "10")] + [
-    "glass-beads/rectangle-0mm-19", "glass-beads/rectangle-5mm-19"]
+    "glass-beads/rectangle-0mm-19", "glass-beads/rectangle-5mm-19",
+    "hysteretic-small-eta/rectangle-0mm-16", "hysteretic-small-eta/rectangle-5mm-16"]
 BAND = 0.005     # a rigid run's band (m): the thickness of the study's default layer
 
 

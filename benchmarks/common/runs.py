@@ -16,7 +16,7 @@ COLLAPSE_KEYS = ["status", "message", "t_final", "steps", "rejected_steps",
                  "nonlinear_iterations", "linear_solves", "wall_time_s", "stop_time_s",
                  "front_stop_time_s", "front_settle_time_s", "runout_m", "wall_height_m",
                  "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
-                 "surface_edge_spread", "remeshes"]
+                 "surface_edge_spread", "remeshes", "history_restarts"]
 SPEED_KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
               "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
               "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",

@@ -15,12 +15,13 @@ from granflow.physics import DruckerPrager
 DT = 1e-3
 
 
-def _solver(initial_guess: str, linearization: str = "picard") -> FlowSolver:
+def _solver(initial_guess: str, linearization: str = "picard",
+            scheme: str = "implicit-euler") -> FlowSolver:
     mesh = polygon_mesh([(0, 0), (0.2, 0), (0.2, 0.1), (0, 0.1)],
                         [BED, SURFACE, SURFACE, WALL], 0.05)
     return FlowSolver(mesh, rheology=DruckerPrager(1.0, 25.5, 1e-3), density=1550.0,
                       body_force=(0.0, -9.81), linearization=linearization,
-                      initial_guess=initial_guess)
+                      initial_guess=initial_guess, scheme=scheme)
 
 
 def _history(s: FlowSolver, speeds: tuple[float, float, float]) -> None:
@@ -67,11 +68,18 @@ def test_auto_starts_the_step_from_the_chosen_guess() -> None:
 
 
 def test_a_restarted_history_starts_from_the_last_state_without_an_estimate() -> None:
-    s = _solver("extrapolated")
+    """Also BDF2's third state, and a rejected step gives the history back."""
+    s = _solver("extrapolated", scheme="bdf2")
     _history(s, (0.0, 1.0, 2.0))   # u^n = 2, u^{n-1} = 1: the extrapolation gives 3
+    assert s.scheme.name == "bdf2" and s.scheme.dt_older > 0
     assert s.local_error(DT) is not None
     s.restart_history()
     assert s.local_error(DT) is None
+    assert s.scheme.dt_previous == 0 and s.scheme.dt_older == 0
+    s.reject()
+    assert s.scheme.dt_previous == DT and s.scheme.dt_older == DT
+    assert s.local_error(DT) is not None
+    s.restart_history()
     s.nonlinear.solve_picard = lambda *args: None
     s.solve_step(DT, 1e-6, 1)
     u = s.solution.components[0]

@@ -202,3 +202,23 @@ def test_a_remesh_lengthens_an_erodible_layer_by_its_undisturbed_stretch() -> No
     points, labels = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)], [BED, SURFACE, WALL]
     with pytest.raises(RuntimeError, match="not one"):
         lengthen_layer(points, labels, 2.0, 0.1)
+
+
+def test_a_film_lying_back_along_the_bed_is_dropped_before_meshing() -> None:
+    """The front's contact point with the surface lying back 1e-12 m above the bed (what a
+    hysteretic run with eta = 0.01 Pa s left on a 22 degree bed, where Netgen never
+    returned): the tip goes, the bed edge runs to the nearly landed vertex, the loop has
+    no angle below SPIKE_RAD and meshes; a loop without spikes is left alone."""
+    from granflow.ale.remesh import SPIKE_RAD, drop_spikes
+
+    pts = [(0.0, 0.0), (0.3, 0.0), (0.28, 1e-12), (0.25, 2e-4), (0.2, 0.01), (0.1, 0.03),
+           (0.0, 0.04)]
+    labels = [BED, SURFACE, SURFACE, SURFACE, SURFACE, SURFACE, WALL]
+    new_pts, new_labels = drop_spikes(pts, labels)
+    assert new_pts == pts[:1] + pts[2:] and new_labels == [BED, *labels[2:]]
+    p = np.array(new_pts)
+    a, b = np.roll(p, 1, axis=0) - p, np.roll(p, -1, axis=0) - p
+    angles = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
+    assert angles.min() >= SPIKE_RAD
+    assert polygon_mesh(new_pts, new_labels, 0.05).ne > 0
+    assert drop_spikes(new_pts, new_labels) == (new_pts, new_labels)

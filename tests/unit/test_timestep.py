@@ -76,6 +76,16 @@ def test_adaptive_accepts_within_tolerance_and_grows_at_most_twice() -> None:
     assert policy.next_dt == pytest.approx(MAX_GROWTH * 1e-3)
 
 
+def test_a_step_that_restarted_the_history_keeps_dt() -> None:
+    """No estimate after a jump of the forcing says nothing about the error: dt is kept
+    (the first step of a run, also without an estimate, grows)."""
+    restarted, first = adaptive(), adaptive()
+    restarted.accepted(1e-3, None, restarted=True)
+    first.accepted(1e-3, None)
+    assert restarted.next_dt == pytest.approx(1e-3)
+    assert first.next_dt == pytest.approx(MAX_GROWTH * 1e-3)
+
+
 def test_adaptive_rejects_a_large_error_and_shrinks_by_the_square_root() -> None:
     policy = adaptive()
     large = LocalError(error=4e-2, speed=1.0)           # 4 x the tolerance 1e-2 x 1 m/s

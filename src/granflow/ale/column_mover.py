@@ -183,7 +183,7 @@ class ColumnMover(AleMover):
                                                  self.initial_area, measure=self.measure)
         self._tension_switched = False
         if self.tension is not None:
-            self._tension_accepted = copy.copy(self.tension.state)
+            self._tension_accepted = copy.deepcopy(self.tension.state)
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
             self._tension_switched = self.tension.state.active != self._tension_accepted.active
 
@@ -195,7 +195,8 @@ class ColumnMover(AleMover):
             self.tension.state = self._tension_accepted
 
     def forcing_jumped(self) -> bool:
-        """Whether the last move switched the surface tension on or off."""
+        """Whether the last move switched the surface tension on or off (only that: the
+        fold's node moving, a new gamma0 or the gate opening change the forcing less)."""
         return self._tension_switched
 
     def pressure_under(self, vertices: np.ndarray) -> float:

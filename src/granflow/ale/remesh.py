@@ -30,6 +30,7 @@ STRAIGHT_DEG = 2.0  # a free-surface vertex turning the surface by less is dropp
 MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kept one are dropped
 FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
 SNAP_CORNER = 0.2  # a bed vertex this close (x its edge) to a bed corner it passed is put on it
+SPIKE_RAD = 1e-3  # a boundary vertex whose two edges meet at a smaller angle is dropped
 
 
 def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarray:
@@ -107,7 +108,7 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     keep = kept_boundary_vertices(loop_xy, labels, MIN_SURFACE_EDGE * size)
     points = [tuple(loop_xy[i]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
-    points, edge_labels = close_folds(points, edge_labels)
+    points, edge_labels = drop_spikes(*close_folds(points, edge_labels))
     n = len(points)
     ring = _ring(n)
     pts = np.array(points, dtype=float)
@@ -255,6 +256,31 @@ def close_folds(points: list[tuple[float, float]], labels: list[str],
             keep = [k for k in range(n) if k not in drop]
             return close_folds([points[k] for k in keep], [labels[k] for k in keep], gap)
     return points, labels
+
+
+def drop_spikes(points: list[tuple[float, float]], labels: list[str],
+                min_angle: float = SPIKE_RAD) -> tuple[list[tuple[float, float]], list[str]]:
+    """The boundary loop without the tips of zero-thickness spikes and cracks.
+
+    Where the two edges at a vertex meet at less than ``min_angle`` (a free surface lying
+    back along the bed from the front's contact point, 1e-12 m above it, after a run
+    spread a film: a tongue a thousand times longer than thick), Netgen fails (angles near
+    1e-4) or never returns (1e-6 and below). The tip is dropped and its two edges become
+    one, which keeps a bed, wall or end label over a surface one: the nearly landed
+    vertex becomes the contact point. The area lost is the spike's, of the order of the
+    angle times its length squared.
+    """
+    pts = np.asarray(points, dtype=float)
+    a, b = np.roll(pts, 1, axis=0) - pts, np.roll(pts, -1, axis=0) - pts
+    angle = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
+    tips = np.flatnonzero(angle < min_angle)
+    if not tips.size or len(points) <= 3:
+        return points, labels
+    i = int(tips[0])
+    merged = labels[i - 1] if labels[i - 1] != SURFACE else labels[i]
+    keep = [k for k in range(len(points)) if k != i]
+    new_labels = [merged if k == (i - 1) % len(points) else labels[k] for k in keep]
+    return drop_spikes([points[k] for k in keep], new_labels, min_angle)
 
 
 def kept_boundary_vertices(pts: np.ndarray, labels: list[str], min_edge: float) -> list[int]:

@@ -79,6 +79,7 @@ class FlowSolver:
         self.dt = self.scheme.dt
         self.mesh_velocity = ngs.GridFunction(vector_p2(mesh))
         self.extrapolation_won = True           # "auto": which guess predicted the last step
+        self._history_kept: dict[str, object] | None = None   # set aside by a restart
         # gamma of (2.11)/(3.8) at the vertices, on the boundary ``surface_tension_on``
         self.surface_tension = ngs.GridFunction(ngs.H1(mesh, order=1))
         traction = (None if surface_tension_on is None
@@ -220,21 +221,28 @@ class FlowSolver:
             self.extrapolation_won = (self._miss(dt, extrapolated=True)
                                       <= self._miss(dt, extrapolated=False))
         self.scheme.accept(self.solution, dt)
+        self._history_kept = None
         if self.augmented is not None:
             self.augmented.remember()
 
     def reject(self) -> None:
-        """Back to the state at the start of the rejected step (and the augmented
-        Lagrangian's d, lambda and r: a failed iteration's are no start for the retry)."""
+        """Back to the state at the start of the rejected step: the history a restart set
+        aside, and the augmented Lagrangian's d, lambda and r (a failed iteration's are no
+        start for the retry)."""
+        if self._history_kept is not None:       # the step had restarted the history
+            self.scheme.restore(self._history_kept)
+            self._history_kept = None
         self.solution.vec.data = self.previous.vec
         if self.augmented is not None:
             self.augmented.restore()
 
     def restart_history(self) -> None:
-        """Forget (u^{n-1}, p^{n-1}): the forcing jumped, so the next step is a first step
-        (implicit Euler from (u^n, p^n), no local error estimate) as after ``set_state``."""
+        """Forget the states before (u^n, p^n) for this step: the forcing jumped, so it is a
+        first step (implicit Euler from (u^n, p^n), no local error estimate) as after
+        ``set_state``. ``reject`` gives the history back (a retry may not jump)."""
+        if self._history_kept is None:
+            self._history_kept = self.scheme.save()
         self.scheme.set_initial()
-        self.solution.vec.data = self.previous.vec
 
     def save_history(self) -> dict[str, object]:
         """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the

@@ -17,7 +17,8 @@ make the fixed-point iteration (3.2) cycle instead of converge.
 A move that switches a boundary forcing on or off (the surface tension of section 3.4)
 restarts the solver's history, as an ODE integrator restarts at a discontinuity: the
 step starts from u^n and has no local error estimate, since the polynomial through the
-past steps says nothing about a solution whose forcing just jumped. Without the restart
+past steps says nothing about a solution whose forcing just jumped; the step policy keeps
+dt after it, and a rejected attempt gives the history back. Without the restart
 each switch of the tension over a strong layer cost 3-6 steps rejected on Milne's
 estimate, of 50-240 iterations each.
 """
@@ -102,6 +103,7 @@ class _Attempt:
     move_failure: MoveFailure | None = None
     estimate: LocalError | None = None
     detail: str = ""
+    restarted: bool = False   # the move switched a forcing: the history was restarted
 
 
 @dataclass
@@ -208,7 +210,7 @@ class Simulation:
                 return attempt
             if motion.forcing_jumped():
                 self.solver.restart_history()   # see the module docstring
-                self.history_restarts += 1
+                attempt.restarted = True
         report = self.solver.solve_step(dt, tol, self.max_iterations, self.velocity_floor)
         attempt.report = report
         self.nonlinear_iterations += report.iterations
@@ -346,7 +348,8 @@ class Simulation:
         self.solver.accept(self.dt)
         if self.mesh_motion is not None:
             self.mesh_motion.after_accept()
-        self.steps_policy.accepted(self.dt, attempt.estimate)
+        self.steps_policy.accepted(self.dt, attempt.estimate, restarted=attempt.restarted)
+        self.history_restarts += attempt.restarted
         self.t += self.dt
         self.step += 1
         self.last_report, self.last_estimate = attempt.report, attempt.estimate

@@ -84,8 +84,10 @@ class RampedStep:
         """The ramp accepts every converged step (the paper has no error control)."""
         return True
 
-    def accepted(self, dt: float, estimate: LocalError | None = None) -> None:
-        """Grow dt after a full step; a step shortened by a stop or a landing keeps dt."""
+    def accepted(self, dt: float, estimate: LocalError | None = None,
+                 restarted: bool = False) -> None:
+        """Grow dt after a full step; a step shortened by a stop or a landing keeps dt (the
+        ramp ignores a restarted history)."""
         if self.recovering is not None:
             if dt >= self.recovering * (1 - 1e-12):
                 grown = self.recovering * RECOVERY_GROWTH
@@ -162,8 +164,12 @@ class AdaptiveStep:
         root = math.sqrt(error) if self.order == 1 else error ** (1.0 / (self.order + 1))
         return min(MAX_GROWTH, max(MIN_SHRINK, SAFETY / root))
 
-    def accepted(self, dt: float, estimate: LocalError | None = None) -> None:
-        factor = self._factor(self.error(estimate))
+    def accepted(self, dt: float, estimate: LocalError | None = None,
+                 restarted: bool = False) -> None:
+        """The next dt from the step's error; a step that restarted the history has no
+        estimate and keeps dt (its size says nothing about the error after the jump)."""
+        unknown = restarted and estimate is None
+        factor = 1.0 if unknown else self._factor(self.error(estimate))
         full = dt >= self.dt * (1 - 1e-12)
         if full or factor < 1.0:
             proposed = dt * factor
