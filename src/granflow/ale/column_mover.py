@@ -77,8 +77,7 @@ class ColumnMover(AleMover):
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
         self.relabelled_segments = 0
         self.limited_steps = 0
-        self._tension_switched = False   # the last move switched the surface tension
-        self._tension_accepted: TensionState | None = None   # its state before that move
+        self._tension_accepted: TensionState | None = None   # the tension before the move
         # the volume fix: relative area restored at the last move, and summed over the run
         # (|.| and signed), so that a volume error of 0 by construction says what it cost
         self.step_correction = 0.0
@@ -181,11 +180,9 @@ class ColumnMover(AleMover):
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
             self.step_correction = conserve_area(xy, self.chain.segments, movable,
                                                  self.initial_area, measure=self.measure)
-        self._tension_switched = False
         if self.tension is not None:
             self._tension_accepted = copy.deepcopy(self.tension.state)
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
-            self._tension_switched = self.tension.state.active != self._tension_accepted.active
 
     def undo(self) -> None:
         """Back to the accepted mesh, and the surface tension's switch with it: a retry
@@ -197,7 +194,9 @@ class ColumnMover(AleMover):
     def forcing_jumped(self) -> bool:
         """Whether the last move switched the surface tension on or off (only that: the
         fold's node moving, a new gamma0 or the gate opening change the forcing less)."""
-        return self._tension_switched
+        before = self._tension_accepted
+        return (self.tension is not None and before is not None
+                and self.tension.state.active != before.active)
 
     def pressure_under(self, vertices: np.ndarray) -> float:
         """Mean pressure p^n over the triangles with an edge between two of ``vertices``
