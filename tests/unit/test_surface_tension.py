@@ -140,3 +140,37 @@ def test_auto_gamma0_is_held_while_the_tension_pulls_the_pressure_below_zero() -
     mesh.ngmesh.Coordinates()[chain[2], 1] = 0.8
     fresh.update([chain], lambda v: -50.0)
     assert fresh.state.active and fresh.state.gamma0 == 0.0
+
+
+def test_local_edge_length_makes_the_traction_the_pressure_times_the_turning_angle() -> None:
+    """With length = "local_edge" gamma_i = p w_i delta theta_i (3.8)-(3.11): the edge length
+    of (3.10) cancels, so the traction at the fold does not depend on mesh.size, and where
+    the edges are mesh.size long it equals the "mesh_size" scaling's."""
+    for length in ("mesh_size", "local_edge"):
+        for mesh_size in (0.1, 0.4):
+            mesh = polygon_mesh([(0, 0), (1, 0), (1, 1), (0, 1)],
+                                ["bed", "wall", "surface", "wall"], 0.25)
+            field = ngs.GridFunction(ngs.H1(mesh, order=1))
+            tension = SurfaceTension(field, delta=2, gamma0="auto", trigger_angle_deg=0,
+                                     mesh_size=mesh_size, length=length)
+            xy = mesh.ngmesh.Coordinates()
+            chain = _top_chain(mesh)
+            xy[chain[2], 1] = 0.9
+            tension.update([chain], lambda v: 300.0)
+            gamma = field.vec.FV().NumPy()[chain]
+            turn = turning_angles(xy[chain])[1]            # at node 2, the critical one
+            edge = 0.5 * np.sum(np.linalg.norm(np.diff(xy[chain[1:4]], axis=0), axis=1))
+            if length == "local_edge":
+                assert gamma[2] == pytest.approx(300.0 * turn)
+                assert tension.state.gamma0 == pytest.approx(300.0 * edge)
+            else:
+                assert gamma[2] == pytest.approx(300.0 * mesh_size * turn / edge)
+                assert tension.state.gamma0 == pytest.approx(300.0 * mesh_size)
+
+
+def test_an_unknown_length_is_refused() -> None:
+    mesh = polygon_mesh([(0, 0), (1, 0), (1, 1), (0, 1)], ["bed", "wall", "surface", "wall"],
+                        0.5)
+    with pytest.raises(ValueError, match="surface_tension.length"):
+        SurfaceTension(ngs.GridFunction(ngs.H1(mesh, order=1)), delta=2, gamma0="auto",
+                       trigger_angle_deg=0, mesh_size=0.1, length="cell")

@@ -7,7 +7,12 @@ chain, negative where the domain is locally convex (3.9)-(3.10), and gamma_0 is 
 only within ``delta`` nodes of the node i_c of largest curvature (3.11). Like a physical
 surface tension it pulls a convex bulge in and pushes a concave corner out, so a fold is
 straightened. It is a numerical device: gamma_0-bar is of the order of the pressure under
-the surface times the mesh size.
+the surface times the mesh size. On a mesh graded finer over a layer than over the column,
+"the mesh size" is either ``mesh.size`` (``length = "mesh_size"``) or, as the paper's
+"position-dependent gamma_0" allows, each node's own edge length, the denominator of C in
+(3.10) (``length = "local_edge"``): then gamma_i = p-bar w_i delta theta_i, the pressure
+times the turning angle wherever the mesh is finer, and no longer grows with mesh.size over
+the local edge.
 
 When it acts (the paper gives no rule): at a step where the surface turns by at least
 ``trigger_angle_deg`` at a concave node (delta theta >= trigger; default 90 deg: the
@@ -62,6 +67,9 @@ def tension_profile(n: int, critical: int, delta: float) -> np.ndarray:
     return np.maximum(0.0, 1.0 - ((i - critical) / delta) ** 2) ** 2
 
 
+LENGTHS = ("mesh_size", "local_edge")   # what gamma_0-bar scales with
+
+
 @dataclass
 class TensionState:
     """What the last update did (for diagnostics and the run summary)."""
@@ -69,7 +77,8 @@ class TensionState:
     active: bool = False
     critical_x: float = float("nan")
     max_turn_deg: float = 0.0  # largest concave turn of the surface at the last update
-    gamma0: float = 0.0
+    gamma0: float = 0.0  # gamma_0-bar at the critical node
+    pressure: float = 0.0  # the pressure gamma_0-bar was taken from ("auto")
     active_steps: int = 0  # accepted steps with the tension on (counted by the mover)
 
 
@@ -82,7 +91,8 @@ class SurfaceTension:
 
     def __init__(self, field: ngs.GridFunction, delta: float, gamma0: float | str,
                  trigger_angle_deg: float, mesh_size: float,
-                 release_angle_deg: float | None = None) -> None:
+                 release_angle_deg: float | None = None,
+                 length: str = "mesh_size") -> None:
         self.field = field
         self.delta = delta
         self.gamma0 = gamma0
@@ -90,6 +100,9 @@ class SurfaceTension:
         release = trigger_angle_deg if release_angle_deg is None else release_angle_deg
         self.release = np.radians(min(release, trigger_angle_deg))
         self.mesh_size = mesh_size
+        if length not in LENGTHS:
+            raise ValueError(f"surface_tension.length = {length!r}: one of {LENGTHS}")
+        self.length = length
         self.state = TensionState()
 
     def update(self, chains: list[np.ndarray],
@@ -99,7 +112,8 @@ class SurfaceTension:
         Deposition can split the surface into several chains; angles are taken within each,
         i_c over all of them. ``pressure_under(vertices)`` is the mean pressure in the cells
         under those surface vertices: with gamma0 = "auto", gamma0-bar is that pressure
-        under the nodes where the tension acts (within delta of i_c) times mesh.size.
+        under the nodes where the tension acts (within delta of i_c) times the length
+        (``mesh.size``, or each node's edge length of (3.10)).
         """
         values = self.field.vec.FV().NumPy()
         values[:] = 0.0
@@ -122,13 +136,24 @@ class SurfaceTension:
         if self.gamma0 == "auto":
             under = pressure_under(chain[profile > 0])
             # Under an acting tension a pressure <= 0 is the tension's own pull, not the
-            # absence of load: keep its last gamma0 (a gamma0 set to 0 there switches the
+            # absence of load: keep its last pressure (a gamma0 set to 0 there switches the
             # tension off, the pressure comes back and it switches on: every other step).
-            held = self.state.gamma0 if was_active else 0.0
-            gamma0 = under * self.mesh_size if under > 0 else held
+            held = self.state.pressure if was_active else 0.0
+            pressure = under if under > 0 else held
+            gamma0 = pressure * (self._lengths(xy[chain]) if self.length == "local_edge"
+                                 else self.mesh_size)
         else:
-            gamma0 = float(self.gamma0)
+            pressure = float("nan")
+            gamma0 = float(self.gamma0) * (self._lengths(xy[chain]) / self.mesh_size
+                                           if self.length == "local_edge" else 1.0)
         values[chain] = gamma0 * profile * c
+        self.state.pressure = pressure
+        self.state.gamma0 = float(np.broadcast_to(gamma0, profile.shape)[critical])
         self.state.active = True
         self.state.critical_x = float(xy[chain[critical], 0])
-        self.state.gamma0 = gamma0
+
+    @staticmethod
+    def _lengths(points: np.ndarray) -> np.ndarray:
+        """Each node's length in (3.10), the mean of its two edges (the ends: their one)."""
+        r = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        return np.concatenate([r[:1], 0.5 * (r[:-1] + r[1:]), r[-1:]])

@@ -231,7 +231,8 @@ def inert_keys(c: Config) -> dict[str, str]:
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
             "surface_tension.gamma0 surface_tension.trigger_angle_deg "
-            "surface_tension.release_angle_deg mesh.cells_across", "it applies to columns only")
+            "surface_tension.release_angle_deg surface_tension.length mesh.cells_across",
+            "it applies to columns only")
         if c.numerics.mesh_velocity == "fixed":
             add("numerics.mesh_penalty numerics.ale_extrapolation",
                 "numerics.mesh_velocity = 'fixed' (the mesh does not move)")
@@ -250,7 +251,8 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("geometry.front_angle_deg", "geometry.shape = 'rectangle' has a vertical front")
         if not st.enabled:
             add("surface_tension.delta surface_tension.gamma0 surface_tension.trigger_angle_deg "
-                "surface_tension.release_angle_deg", "surface_tension.enabled = false")
+                "surface_tension.release_angle_deg surface_tension.length",
+                "surface_tension.enabled = false")
         if not t.stop_at_rest:
             add("time.rest_fraction time.rest_duration", "time.stop_at_rest = false")
     if t.dt is not None:

@@ -234,6 +234,7 @@ class SurfaceTension(_Section):
     gamma0: Literal["auto"] | Annotated[float, Field(ge=0, le=1e9)]  # gamma0-bar of (3.11)
     trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
     release_angle_deg: Annotated[float, Field(ge=0, le=180)]  # stays on while it turns >=
+    length: Literal["mesh_size", "local_edge"]  # what gamma0-bar scales with
 
 
 class Output(_Section):

@@ -144,7 +144,7 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         anderson_depth=num.anderson_depth)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
-                              st.release_angle_deg) if st.enabled else None)
+                              st.release_angle_deg, st.length) if st.enabled else None)
     velocity_cls = LagrangeMeshVelocity if num.mesh_velocity == "lagrange" else (
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])
