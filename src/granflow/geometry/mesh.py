@@ -19,6 +19,8 @@ from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 __all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
            "periodic_layer_mesh", "polygon_mesh", "signed_areas"]
 
+FLAT_QUALITY = 1e-6   # a fresh triangle of lower shape quality is flat (a sharp tip: 1e-3)
+
 
 def periodic_layer_mesh(length: float, height: float, size: float,
                         cells_x: int | None = None) -> ngs.Mesh:
@@ -85,7 +87,7 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     boundary = np.array([lab != INTERIOR for lab in seg_labels], dtype=bool)
     segments = seg["nodes"][boundary, :2].astype(np.int64) - 1
     seg_labels = [lab for lab in seg_labels if lab != INTERIOR]
-    tri = flip_corner_triangles(xy, tri)
+    tri = flip_flat_triangles(xy, flip_corner_triangles(xy, tri))
     xy, tri, segments, seg_labels = collapse_flat_corners(xy, tri, segments, seg_labels)
     if not stretch.identity:
         xy = stretch.inverse(xy)
@@ -130,6 +132,26 @@ def flip_corner_triangles(xy: np.ndarray, tri: np.ndarray, max_passes: int = 5) 
             break
         for t in corner:
             _flip_interior_edge(xy, tri, t)
+    return tri
+
+
+def flip_flat_triangles(xy: np.ndarray, tri: np.ndarray,
+                        min_quality: float = FLAT_QUALITY) -> np.ndarray:
+    """Flip the long edge of every flat triangle (three vertices in a line), when convex.
+
+    Netgen can close a thin overturning nose with a triangle whose three vertices are
+    boundary vertices in a line (a surface vertex lying on the chord from the underside to
+    the tip): its area is round-off, so the next move of any size inverts it, and every
+    remesh of that boundary made it again (a run's steps fell to 1e-14 s). Flipping the
+    edge opposite the straight angle triangulates the same polygon without it.
+    """
+    tri = tri.copy()
+    p = xy[tri]
+    e = np.roll(p, -1, axis=1) - p
+    quality = (4.0 * np.sqrt(3.0) * 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
+               / np.sum(e**2, axis=(1, 2)))
+    for t in np.flatnonzero(quality < min_quality):
+        _flip_interior_edge(xy, tri, int(t))
     return tri
 
 
