@@ -22,7 +22,15 @@ from granflow.ale.free_surface import (
     segments_intersect,
 )
 from granflow.fem.sampling import triangles
-from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL, polygon_mesh
+from granflow.geometry.mesh import (
+    BED,
+    END,
+    GATE,
+    SURFACE,
+    WALL,
+    polygon_mesh,
+    triangle_quality,
+)
 from granflow.geometry.profile import CORNER_DEG, BedProfile
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
@@ -37,11 +45,7 @@ def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarr
     """4 sqrt(3) area / (sum of squared edge lengths): 1 equilateral, 0 flat or inverted;
     measured in the coordinates the mesh was made in (``stretch``: a stretched layer's
     cells are as good as isotropic ones there)."""
-    xy = stretch.forward(mesh.ngmesh.Coordinates())
-    p = xy[triangles(mesh)]
-    e = np.roll(p, -1, axis=1) - p
-    area = 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
-    return 4.0 * np.sqrt(3.0) * area / np.sum(e**2, axis=(1, 2))
+    return triangle_quality(stretch.forward(mesh.ngmesh.Coordinates()), triangles(mesh))
 
 
 def boundary_loop(chain: BoundaryChain) -> tuple[np.ndarray, list[str]]:

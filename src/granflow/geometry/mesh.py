@@ -17,7 +17,7 @@ from granflow.geometry.profile import CORNER_DEG
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
 __all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
-           "periodic_layer_mesh", "polygon_mesh", "signed_areas"]
+           "periodic_layer_mesh", "polygon_mesh", "signed_areas", "triangle_quality"]
 
 FLAT_QUALITY = 1e-6   # a fresh triangle of lower shape quality is flat (a sharp tip: 1e-3)
 
@@ -146,13 +146,17 @@ def flip_flat_triangles(xy: np.ndarray, tri: np.ndarray,
     edge opposite the straight angle triangulates the same polygon without it.
     """
     tri = tri.copy()
-    p = xy[tri]
-    e = np.roll(p, -1, axis=1) - p
-    quality = (4.0 * np.sqrt(3.0) * 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
-               / np.sum(e**2, axis=(1, 2)))
-    for t in np.flatnonzero(quality < min_quality):
+    for t in np.flatnonzero(triangle_quality(xy, tri) < min_quality):
         _flip_interior_edge(xy, tri, int(t))
     return tri
+
+
+def triangle_quality(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """4 sqrt(3) area / (sum of squared edge lengths): 1 equilateral, 0 flat or inverted."""
+    p = xy[tri]
+    e = np.roll(p, -1, axis=1) - p
+    area = 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
+    return 4.0 * np.sqrt(3.0) * area / np.sum(e**2, axis=(1, 2))
 
 
 def collapse_flat_corners(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
@@ -168,10 +172,7 @@ def collapse_flat_corners(xy: np.ndarray, tri: np.ndarray, segments: np.ndarray,
     labels = list(labels)
     for _ in range(10):
         counts = boundary_edge_counts(tri)
-        p = xy[tri]
-        e = np.roll(p, -1, axis=1) - p
-        area = 0.5 * (e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])
-        quality = 4.0 * np.sqrt(3.0) * area / np.sum(e**2, axis=(1, 2))
+        quality = triangle_quality(xy, tri)
         bad = [t for t in np.flatnonzero((counts >= 2) & (quality < min_quality))]
         done = False
         for t in bad:
