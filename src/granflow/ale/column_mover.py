@@ -181,7 +181,7 @@ class ColumnMover(AleMover):
             self.step_correction = conserve_area(xy, self.chain.segments, movable,
                                                  self.initial_area, measure=self.measure)
         if self.tension is not None:
-            self._tension_accepted = copy.deepcopy(self.tension.state)
+            self._tension_accepted = copy.copy(self.tension.state)   # scalars only
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
 
     def undo(self) -> None:

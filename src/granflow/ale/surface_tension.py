@@ -53,11 +53,16 @@ def turning_angles(points: np.ndarray) -> np.ndarray:
     return 2.0 * np.arctan2(cross, norms + dot)
 
 
+def node_lengths(points: np.ndarray) -> np.ndarray:
+    """Each node's length in (3.10), the mean of its two edges (the two ends: their one)."""
+    r = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    return np.concatenate([r[:1], 0.5 * (r[:-1] + r[1:]), r[-1:]])
+
+
 def curvature(points: np.ndarray) -> np.ndarray:
     """C_i of (3.10) at every node of the chain (0 at its two ends)."""
-    r = np.linalg.norm(np.diff(points, axis=0), axis=1)
     c = np.zeros(len(points))
-    c[1:-1] = turning_angles(points) / (0.5 * (r[:-1] + r[1:]))
+    c[1:-1] = turning_angles(points) / node_lengths(points)[1:-1]
     return c
 
 
@@ -140,20 +145,14 @@ class SurfaceTension:
             # tension off, the pressure comes back and it switches on: every other step).
             held = self.state.pressure if was_active else 0.0
             pressure = under if under > 0 else held
-            gamma0 = pressure * (self._lengths(xy[chain]) if self.length == "local_edge"
+            gamma0 = pressure * (node_lengths(xy[chain]) if self.length == "local_edge"
                                  else self.mesh_size)
         else:
             pressure = float("nan")
-            gamma0 = float(self.gamma0) * (self._lengths(xy[chain]) / self.mesh_size
+            gamma0 = float(self.gamma0) * (node_lengths(xy[chain]) / self.mesh_size
                                            if self.length == "local_edge" else 1.0)
         values[chain] = gamma0 * profile * c
         self.state.pressure = pressure
         self.state.gamma0 = float(np.broadcast_to(gamma0, profile.shape)[critical])
         self.state.active = True
         self.state.critical_x = float(xy[chain[critical], 0])
-
-    @staticmethod
-    def _lengths(points: np.ndarray) -> np.ndarray:
-        """Each node's length in (3.10), the mean of its two edges (the ends: their one)."""
-        r = np.linalg.norm(np.diff(points, axis=0), axis=1)
-        return np.concatenate([r[:1], 0.5 * (r[:-1] + r[1:]), r[-1:]])
