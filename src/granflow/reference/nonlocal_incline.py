@@ -78,7 +78,7 @@ def steady_nonlocal_flow(*, law: NonlocalFluidity, height: float, slope_deg: flo
         denominator = pressure + eta * g
         safe = np.where(denominator > 0, denominator, 1.0)
         value = np.where(denominator > 0, shear * g / safe, mu * g)
-        slope = np.where(denominator > 0, shear * pressure / safe**2, mu)
+        slope = np.where(denominator > 0, (shear / safe) * (pressure / safe), mu)
         return value, slope
 
     def residual(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
