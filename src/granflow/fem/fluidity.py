@@ -66,9 +66,11 @@ class FluidityField:
         self.solves = 0
 
     def bind(self, velocity: ngs.CoefficientFunction, pressure: ngs.CoefficientFunction,
-             mesh_velocity: ngs.CoefficientFunction) -> None:
+             mesh_velocity: ngs.CoefficientFunction,
+             source: ngs.CoefficientFunction | None = None) -> None:
         """The flow (u, p) and the mesh velocity w the equation reads (live fields: each
-        ``solve`` assembles with their values at that moment)."""
+        ``solve`` assembles with their values at that moment); ``source`` is added to its
+        right-hand side (a manufactured solution's, for verification)."""
         g, v = self.space.TnT()
         laws, frac, c = self.laws, self.fraction, self.coords
         rate = math.sqrt(2.0) * ngs.sqrt(c.strain_rate_sq(velocity))       # gamma_dot
@@ -83,6 +85,8 @@ class FluidityField:
             a += c.dx(diffusivity * ngs.grad(g) * ngs.grad(v))
         f = ngs.LinearForm(self.space)
         f += c.dx((t0 / self.dt * self.previous + rate) * v, intrules=RULES)
+        if source is not None:
+            f += c.dx(source * v)
         self._form, self._rhs = a, f
         self._lu = ReusableLU(a, self.space.FreeDofs(), self._solver)
 

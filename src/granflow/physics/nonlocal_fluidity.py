@@ -67,6 +67,7 @@ class NonlocalFluidity:
     eps: float
     time: str | float = INERTIAL
     fluidity: Any = 0.0
+    friction_cap_deg: float | None = None     # mu_max = tan(angle); None: no cap
 
     def __post_init__(self) -> None:
         if self.viscosity < 0:
@@ -103,8 +104,12 @@ class NonlocalFluidity:
         """``m`` with sigma' = m Du: 2 eta + 2 P / ([g]_+ + g_eps); it does not depend on the
         strain rate (the fluidity is a given field during a step)."""
         load = ops.positive_part(pressure)
-        return 2.0 * self.viscosity + 2.0 * load / (ops.positive_part(self.fluidity)
-                                                    + self.floor)
+        fluidity = ops.positive_part(self.fluidity) + self.floor
+        if self.friction_cap_deg is not None:        # at least gamma_dot / mu_max
+            capped = math.sqrt(2.0) * ops.sqrt(strain_rate_sq + self.eps**2) / math.tan(
+                math.radians(self.friction_cap_deg))
+            fluidity = fluidity + ops.positive_part(capped - fluidity)
+        return 2.0 * self.viscosity + 2.0 * load / fluidity
 
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:

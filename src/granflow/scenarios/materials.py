@@ -67,7 +67,8 @@ def nonlocal_law(mat: Material, eps: float, fluidity: Any = 0.0) -> NonlocalFlui
                             b=mat.nonlocal_b, amplitude=mat.nonlocal_amplitude,
                             grain_diameter=mat.grain_diameter,
                             grain_density=mat.grain_density, eps=eps,
-                            time=mat.fluidity_time, fluidity=fluidity)
+                            time=mat.fluidity_time, fluidity=fluidity,
+                            friction_cap_deg=mat.mu_2_deg)
 
 
 def nonlocal_materials(config: Config) -> tuple[Material, ...]:
