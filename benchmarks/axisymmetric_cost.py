@@ -16,13 +16,11 @@ iteration on the two forms. Writes OUT/cost.json and prints a table.
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 from pathlib import Path
 
+from common.results import report, write_json
 from common.runs import run_summary
-
-from granflow.io.run_dir import atomic_write_text
 
 CASES = {"P": ("rectangle-rigid", ["geometry.width=0.1", "numerics.linearization=picard"]),
          "A": ("cylinder-rigid", [])}
@@ -41,9 +39,9 @@ def main() -> None:
             summary = run_summary(scenario, [*extra, *COMMON, f"mesh.size={args.size!r}"],
                                   args.out / f"{label}{k}")
             runs[label].append(summary)
-            print(label, k, json.dumps({x: summary[x] for x in (
+            report(f"{label} {k}", {x: summary[x] for x in (
                 "status", "steps", "nonlinear_iterations", "wall_time_s", "stop_time_s",
-                "runout_m", "n_triangles")}), flush=True)
+                "runout_m", "n_triangles")})
     med = {label: statistics.median(r["wall_time_s"] for r in rows)
            for label, rows in runs.items()}
     per_it = {label: statistics.median(r["wall_time_s"] / r["nonlinear_iterations"]
@@ -52,8 +50,7 @@ def main() -> None:
               "wall_time_median_s": med, "wall_time_per_iteration_median_s": per_it,
               "ratio_A_over_P": med["A"] / med["P"],
               "ratio_per_iteration_A_over_P": per_it["A"] / per_it["P"]}
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "cost.json", json.dumps(result, indent=2))
+    write_json(args.out / "cost.json", result)
     print(f"| run | triangles | steps | iterations | wall time (s, median of {args.repeat}) "
           "| per iteration (ms) |\n|---|---|---|---|---|---|")
     for label, rows in runs.items():

@@ -15,12 +15,12 @@ OUT/tolerance_floor.json.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
+from common.results import write_json
+
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 from granflow.runner import build_problem
 
 CASE = ["geometry.width=0.1", "geometry.height=0.1", "mesh.size=0.02", "time.output_times=[]",
@@ -56,9 +56,8 @@ def main() -> None:
         print(f"tol {tol:8.1e}: {row['status']:9s} t = {row['t_final']:.4g} s, "
               f"{row['steps']} steps, {row['iterations_per_step']:6.1f} iterations a step, "
               f"{row['unconverged_steps']} unconverged, {row['wall_s']:6.1f} s")
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "tolerance_floor.json", json.dumps(
-        {"case": CASE, "t_end": args.t_end, "rows": rows}, indent=2) + "\n")
+    write_json(args.out / "tolerance_floor.json", {"case": CASE, "t_end": args.t_end,
+                                                    "rows": rows}, end="\n")
 
 
 if __name__ == "__main__":

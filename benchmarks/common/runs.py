@@ -8,9 +8,10 @@ import shutil
 from pathlib import Path
 
 import granflow
+from common.results import write_json
 from granflow.config import load_config
 from granflow.io import profiles
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 COLLAPSE_KEYS = ["status", "message", "t_final", "steps", "rejected_steps",
                  "nonlinear_iterations", "linear_solves", "wall_time_s", "stop_time_s",
@@ -33,7 +34,7 @@ def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path)
         summary = RunDir.summary(run_dir.root)
         results[name] = {k: summary.get(k) for k in COLLAPSE_KEYS} | {"overrides": overrides}
         print(tag, name, json.dumps(results[name], indent=1), flush=True)
-    atomic_write_text(out / f"{tag}.json", json.dumps(results, indent=2))
+    write_json(out / f"{tag}.json", results)
     return results
 
 
