@@ -24,7 +24,7 @@ from granflow.io.run_dir import RunDir
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "linear_solves",
         "wall_time_s", "stop_time_s", "runout_m", "n_triangles", "remeshes",
         "remesh_area_change_max", "remesh_area_restored_max", "area_correction_total",
-        "area_correction_net", "min_triangle_quality", "unconverged_steps"]
+        "area_correction_net", "min_triangle_quality"]
 
 
 def table(results: dict[str, dict]) -> str:

@@ -19,7 +19,7 @@ COLLAPSE_KEYS = ["status", "message", "t_final", "steps", "rejected_steps",
                  "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
                  "surface_edge_spread", "remeshes", "history_restarts"]
 SPEED_KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
-              "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
+              "nonlinear_iterations", "linear_solves", "wall_time_s",
               "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",
               "n_triangles", "remeshes", "min_triangle_quality",
               "velocity_relative_error_l2", "outputs_at_rest", "linear_solver"]
