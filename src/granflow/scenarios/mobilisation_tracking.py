@@ -1,6 +1,6 @@
 """The mobilisation state of a hysteretic friction through a run (``physics/hysteresis.py``):
 advanced after each accepted step (carried with the material through the moving mesh, then
-relaxed at the step's shear rates; ``fem/mobilisation.py``), carried through every remesh of
+relaxed at the step's shear rates; ``fem/mobilisation_field.py``), carried through every remesh of
 a collapse, and checkpointed. Used by the collapse and by the periodic layer (where the flow
 runs along the bed and the state, uniform along it, needs nothing across the periodic ends:
 the transport treats them as walls).
@@ -27,7 +27,7 @@ import numpy as np
 from granflow.ale.transfer import transfer_cells
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
-from granflow.fem.mobilisation import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.physics.hysteresis import Relaxation, pick, relaxed
 from granflow.scenarios.materials import layer_material, relaxation
