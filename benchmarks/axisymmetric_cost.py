@@ -10,7 +10,7 @@ fixed point (3.2) ("picard": the primal-dual correction is plane strain only), t
 tolerances and steps, run to rest, alternately (P, A, P, A, ...). The two flows differ
 (a cylinder spreads in r and stops sooner), so beside the whole-run wall-time ratio A/P the
 table gives the wall time per nonlinear iteration, which compares the work of one
-iteration on the two forms. Writes OUT/cost.json and prints a table.
+iteration on the two forms. The runs go to OUT/runs/; writes OUT/cost.json and prints a table.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def main() -> None:
     for k in range(args.repeat):
         for label, (scenario, extra) in CASES.items():
             summary = run_summary(scenario, [*extra, *COMMON, f"mesh.size={args.size!r}"],
-                                  args.out / f"{label}{k}")
+                                  args.out / "runs" / f"{label}{k}")
             runs[label].append(summary)
             report(f"{label} {k}", {x: summary[x] for x in (
                 "status", "steps", "nonlinear_iterations", "wall_time_s", "stop_time_s",
