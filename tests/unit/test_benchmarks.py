@@ -1,5 +1,6 @@
-"""benchmarks/ as the documentation uses it: every results file or folder a page cites is
-in benchmarks/results/, and benchmarks/README.md has one row for each script."""
+"""benchmarks/ as the documentation uses it: every results file or folder a page (or the
+code's own docstrings and comments) cites is in benchmarks/results/, and
+benchmarks/README.md has one row for each script."""
 
 from __future__ import annotations
 
@@ -10,7 +11,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCHMARKS = ROOT / "benchmarks"
-PAGES = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md"))]
+PAGES = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md")),
+         *sorted((ROOT / "src" / "granflow").rglob("*.py"))]
 CITED = re.compile(r"benchmarks/results/[\w./*-]*")
 
 
