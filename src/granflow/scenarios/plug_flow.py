@@ -17,7 +17,7 @@ from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import MuI, gravity_vector
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
@@ -26,7 +26,7 @@ from granflow.reference.nonlocal_incline import steady_nonlocal_flow
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
 from granflow.scenarios.materials import augmentation, build_rheology, friction_law, nonlocal_law
-from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
