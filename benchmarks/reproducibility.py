@@ -29,7 +29,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-from granflow.io.run_dir import atomic_write_text
+from common.results import write_json
 
 REST = ["mesh.size=0.02", "time.output_times=[0.05]", "time.t_end=0.05",
         "material.friction_angle_deg=60", "boundary.bed_friction_deg=60",
@@ -147,7 +147,7 @@ def main() -> None:
                       f"{value['max_displacement']:.3g} m")
             elif key.startswith(("refactorise", "erosion", "triangles")):
                 print(f"{'':10s} {key}: {value:.5g}")
-        atomic_write_text(args.out / "reproducibility.json", json.dumps(result, indent=2) + "\n")
+        write_json(args.out / "reproducibility.json", result, end="\n")
 
 
 if __name__ == "__main__":
