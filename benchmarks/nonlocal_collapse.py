@@ -13,6 +13,9 @@ Run: python benchmarks/nonlocal_collapse.py [--cases rest bed coupling cost]
 - coupling: numerics.fluidity_coupling = "lagged" (the default) against "iterated" at 22 deg
   to t = 0.02 s (the start, where the fluidity grows from the creep's seed): steps,
   iterations, wall time.
+- cap: the first 1e-4 s at 22 deg with material at rest held up to mu_2 (the law's) and
+  without that bound (the law's friction_cap_deg set to None here): steps, rejected steps,
+  iterations, wall time.
 - cost: the nonlocal law against the glass beads' mu(I) (the slope study's `glass-beads`)
   at 22 deg to t = 1 s, side by side, and the share of the nonlocal run's time spent in the
   fluidity's solves (timed around FluidityField.solve).
@@ -26,6 +29,7 @@ one continues from its checkpoint.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 from pathlib import Path
@@ -38,6 +42,8 @@ from granflow.config import load_config
 from granflow.fem import fluidity as fluidity_module
 from granflow.io import profiles
 from granflow.reference import beads
+from granflow.scenarios import fluidity as fluidity_scenario
+from granflow.scenarios import materials
 from granflow.scenarios.column import build_column
 from granflow.scenarios.materials import nonlocal_law
 
@@ -152,7 +158,37 @@ def cost(out: Path) -> dict:
     return rows
 
 
-CASES = {"rest": rest, "bed": bed, "coupling": coupling, "cost": cost}
+def cap(out: Path) -> dict:
+    rows = {}
+    original = materials.nonlocal_law
+    for bounded in (True, False):
+        config = load_config("rectangle-rigid", [
+            *COMMON, *NONLOCAL, f"geometry.slope_deg={SLOPE}", "time.t_end=1e-4",
+            "time.stop_at_rest=false"])
+
+        def law(*args, bounded=bounded, original=original, **kwargs):
+            found = original(*args, **kwargs)
+            return found if bounded else dataclasses.replace(found, friction_cap_deg=None)
+
+        materials.nonlocal_law = law                          # type: ignore[assignment]
+        fluidity_scenario.nonlocal_law = law                  # type: ignore[attr-defined]
+        try:
+            problem = build_column(config)
+            start = time.perf_counter()
+            result = problem.simulation.run()
+        finally:
+            materials.nonlocal_law = original                 # type: ignore[assignment]
+            fluidity_scenario.nonlocal_law = original         # type: ignore[attr-defined]
+        name = "held up to mu_2" if bounded else "unbounded"
+        rows[name] = {"status": result.status, "t_final": result.t_final,
+                      "steps": result.steps, "rejected_steps": result.rejected_steps,
+                      "nonlinear_iterations": result.nonlinear_iterations,
+                      "wall_time_s": time.perf_counter() - start}
+        report(name, rows[name])
+    return rows
+
+
+CASES = {"rest": rest, "bed": bed, "coupling": coupling, "cost": cost, "cap": cap}
 
 
 def markdown(results: dict) -> list[str]:
@@ -168,7 +204,7 @@ def markdown(results: dict) -> list[str]:
                   "| thickness (mm) | " + " | ".join(
                       f"{r[f'thickness_{d}cm_behind_tip_mm']:.2f}" for d in (1, 2, 5, 10, 20))
                   + f" | {r['median_thickness_downslope_half_mm']:.2f} |", ""]
-    for case in ("bed", "coupling", "cost"):
+    for case in ("bed", "coupling", "cost", "cap"):
         if case not in results:
             continue
         lines += [f"## {case}", "", "| run | " + " | ".join(KEYS[:8]) + " |",
