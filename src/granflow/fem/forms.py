@@ -31,6 +31,14 @@ def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     return PLANE.strain_rate(u)
 
 
+def read_on_walls(law: Rheology) -> Rheology:
+    """``law`` as a boundary integral reads it: the fields it holds per triangle (a
+    hysteretic friction's state, the share of a layer's material) taken from the adjacent
+    triangle, where a piecewise constant field would be 0."""
+    with_fields = getattr(law, "with_fields", None)
+    return law if with_fields is None else with_fields(ngs.BoundaryFromVolumeCF)
+
+
 def frobenius(tensor: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """|D| without the factor 1/2 (paper, after (2.2))."""
     return ngs.sqrt(ngs.InnerProduct(tensor, tensor))
@@ -70,7 +78,10 @@ class Term(Protocol):
     """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p).
 
     A term whose ``lhs`` does not read (u_lin, p_lin) sets ``step_constant = True``: the
-    fixed-point iteration assembles it once per step instead of once per iteration.
+    fixed-point iteration assembles it once per step instead of once per iteration. A term
+    that reads the volume on a boundary (``ngs.BoundaryFromVolumeCF``) sets ``compiled =
+    False``: NGSolve's compiler does not know that coefficient (it prints a line per node
+    and computes the same matrix).
     """
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
@@ -157,12 +168,13 @@ class ViscoplasticStress(_LhsOnly):
         wall friction; m sees the whole |Du|, hoop part included); a known (frozen) strain
         rate is traced from the volume before m is formed."""
         du = strain_rate(u_lin)              # the in-plane block, all a wall's normal sees
+        law = self.rheology
         if frozen:
-            du = ngs.BoundaryFromVolumeCF(du)
+            du, law = ngs.BoundaryFromVolumeCF(du), read_on_walls(law)
         square = ngs.InnerProduct(du, du)
         if self.coords.axisymmetric:         # |Du|^2 has the hoop part, continuous across
             square = square + self.coords.hoop_strain(u_lin) ** 2
-        m = self.rheology.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
+        m = law.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
         return m * du
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
@@ -230,6 +242,7 @@ class CoulombWallFriction:
     wall: FrictionWall
     stress: StressTerm
     penalty: float = 0.0     # xi of NormalPenalty, for normal_load = "reaction"
+    compiled = False         # sigma'_N of a frozen iterate is read from the volume
 
     @property
     def rhs_reads_iterate(self) -> bool:
@@ -384,8 +397,10 @@ def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
         if (lhs := term.lhs(s, space.mesh)) is not None:
             if getattr(term, "step_constant", False):
                 a0 += lhs
-            else:
+            elif getattr(term, "compiled", True):
                 a += lhs.Compile()   # the same matrix, ~12 % faster to assemble
+            else:
+                a += lhs
         if (rhs := term.rhs(s, space.mesh)) is not None:
             f += rhs
     reads = any(getattr(term, "rhs_reads_iterate", False) for term in terms)

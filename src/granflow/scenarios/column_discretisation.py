@@ -165,17 +165,17 @@ def discretise(config: Config, mesh: ngs.Mesh,
 def _materials(config: Config, mesh: ngs.Mesh, mobilisation: MobilisationField | None
                ) -> tuple[Rheology, Density, ngs.GridFunction | None]:
     """One material: [material]'s law and density. A layer of its own: both blended with
-    the indicator, a piecewise constant share of layer material per triangle, read on the
-    walls from the adjacent triangle (a plain L2 function is 0 on a boundary element, which
-    would give the Coulomb walls' load under the layer the column's law). A hysteretic
+    the indicator, a piecewise constant share of layer material per triangle (read on the
+    walls from the adjacent triangle, ``fem/forms.py: read_on_walls``: a plain L2 function
+    is 0 on a boundary element, which would give the Coulomb walls' load under the layer
+    the column's law). A hysteretic
     friction reads the mobilisation field (``fem/mobilisation.py``)."""
     eps = config.numerics.eps
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
     layer = layer_material(config)
     if layer is None:
         return friction_law(config.material, eps, *state), config.material.density, None
-    per_triangle = ngs.GridFunction(ngs.L2(mesh, order=0))
-    share = ngs.BoundaryFromVolumeCF(per_triangle)
+    share = ngs.GridFunction(ngs.L2(mesh, order=0))
     law = TwoMaterials(friction_law(config.material, eps, *state),
-                       friction_law(layer, eps, *state), share, per_triangle)
-    return law, blend(config.material.density, layer.density, share), per_triangle
+                       friction_law(layer, eps, *state), share, share)
+    return law, blend(config.material.density, layer.density, share), share
