@@ -267,6 +267,39 @@ def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: s
     assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
 
 
+def state_member(path: str, value: object) -> Callable[[Path], None]:
+    """An edit of the checkpoint: its state's member at ``path`` (dotted) set to ``value``."""
+    def edit(checkpoint: Path) -> None:
+        with np.load(checkpoint, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        tree = json.loads(arrays["__state__"].tobytes())
+        *parents, last = path.split(".")
+        node = tree
+        for key in parents:
+            node = node[key]
+        node[last] = value
+        arrays["__state__"] = np.frombuffer(json.dumps(tree).encode(), dtype=np.uint8)
+        buffer = io.BytesIO()
+        np.savez(buffer, **arrays)
+        checkpoint.write_bytes(buffer.getvalue())
+    return edit
+
+
+@pytest.mark.parametrize("path, value", [
+    ("scenario.mover.initial_area", "x"), ("scenario.history", "abc"),
+    ("scenario.history.t", "abc"), ("scenario.remeshes", "x"), ("loop.t", "abc"),
+    ("outputs.vtk_entries", [[0.0, "../../outside.txt"]])])
+def test_a_tampered_state_member_is_one_line_before_anything_runs(hostile, path: str,
+                                                                 value: object) -> None:
+    """Each of the first four ended in a traceback once the run had started."""
+    root = hostile(CHECKPOINT_FILE, state_member(path, value))
+    before = (root / "diagnostics.csv").read_bytes()
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and f"{path}" in lines[0], lines
+    assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
+    assert outside_untouched(root)
+
+
 def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The disk fills while the figures are drawn: every write from then on fails with
     ENOSPC (the figures', then the error report's)."""

@@ -21,7 +21,6 @@ import dataclasses
 import importlib
 import io
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -88,8 +87,7 @@ def read_checkpoint(root: Path) -> SimulationState:
         if not all(isinstance(part, dict) for part in parts):
             raise ValueError("its state is not made of the loop's, the scenario's and the "
                              "outputs' parts")
-        return SimulationState(loop=_checked_loop(parts[0]), scenario=parts[1],
-                               outputs=parts[2])
+        return SimulationState(loop=parts[0], scenario=parts[1], outputs=parts[2])
     except CheckpointError:
         raise
     except RunDirError as err:
@@ -104,25 +102,6 @@ def pickle_refusal(root: Path) -> str:
     return (f"'{Path(root) / LEGACY_CHECKPOINT_FILE}' is a checkpoint of granflow 0.1, a "
             "pickle, which can execute code when read: granflow no longer reads it; run the "
             f"case again with `granflow run {Path(root) / 'config.toml'} --out NEW_DIR`")
-
-
-def _checked_loop(loop: dict[str, Any]) -> dict[str, Any]:
-    """The loop's share with its time, step and counters checked (what the loop compares
-    and counts with before any other part of the state is used)."""
-    for key in ("t", "dt", "wall_time_s"):
-        value = loop.get(key)
-        if isinstance(value, bool) or not isinstance(value, int | float) or \
-                not math.isfinite(value) or value < 0:
-            raise ValueError(f"its time {key} = {str(value)[:40]} is not a number >= 0")
-    for key in ("step", "rejected_steps", "nonlinear_iterations", "momentum_solves",
-                "unconverged_steps"):
-        value = loop.get(key)
-        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-            raise ValueError(f"its counter {key} = {str(value)[:40]} is not a whole number")
-    if not isinstance(loop.get("rejections"), dict) or \
-            not isinstance(loop.get("stop_criteria"), list):
-        raise ValueError("its loop state lacks the rejections or the stop criteria")
-    return loop
 
 
 def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:

@@ -20,10 +20,11 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from granflow.io.run_dir import CsvLog, RunDir, atomic_write_bytes
 from granflow.io.untrusted import RunDirError, is_regular, read_text
+from granflow.simulation.state_spec import COUNT, Share, may_lack
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -40,6 +41,7 @@ class DiagnosticsLog:
     problem's parts declare); ``rows`` is what a checkpoint remembers."""
 
     name = "diagnostics"
+    share: ClassVar[Share] = {"diagnostic_rows": may_lack(COUNT)}    # of a checkpoint
 
     def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None,
                  columns: Sequence[str] = ()) -> None:

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
+
+from granflow.simulation.state_spec import FLAG, TIME, Share, or_none
 
 if TYPE_CHECKING:
     from granflow.simulation.simulation import Simulation
@@ -29,6 +31,7 @@ class RestCriterion:
     duration: float
     moved: bool = False
     rest_since: float | None = field(default=None)
+    share: ClassVar[Share] = {"moved": FLAG, "rest_since": or_none(TIME)}   # of a checkpoint
 
     def save_state(self) -> dict[str, object]:
         return {"moved": self.moved, "rest_since": self.rest_since}
