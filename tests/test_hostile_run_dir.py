@@ -253,7 +253,7 @@ def checkpoint_bomb(path: Path) -> None:
 
 
 @pytest.mark.parametrize("edit, why", [
-    (checkpoint_bomb, "declares"),
+    (checkpoint_bomb, "declare"),
     (lambda p: p.write_bytes(p.read_bytes()[:len(p.read_bytes()) // 2]),
      "not a readable NumPy archive")], ids=["bomb", "cut"])
 def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: str,
@@ -298,6 +298,54 @@ def test_a_tampered_state_member_is_one_line_before_anything_runs(hostile, path:
     assert code == 2 and len(lines) == 1 and f"{path}" in lines[0], lines
     assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
     assert outside_untouched(root)
+
+
+def unnamed_bombs(checkpoint: Path) -> None:
+    """Two members nothing in the state names, each 64 MB of deflated zeros (the limit is
+    lowered to 16 MB below: as 2 x 512 MiB against the real one)."""
+    with zipfile.ZipFile(checkpoint, "a", zipfile.ZIP_DEFLATED) as archive:
+        for name in ("extra1.npy", "extra2.npy"):
+            with archive.open(name, "w", force_zip64=True) as member:
+                member.write(np.lib.format.magic(1, 0))
+                for _ in range(64):
+                    member.write(b"\0" * 2**20)
+
+
+def test_members_the_state_does_not_name_are_never_read(hostile, monkeypatch:
+                                                         pytest.MonkeyPatch) -> None:
+    import granflow.io.untrusted as untrusted
+
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+    read: list[str] = []
+    member = untrusted._read_member
+    monkeypatch.setattr(untrusted, "_read_member", lambda archive, info, path: (
+        read.append(info.filename), member(archive, info, path))[1])
+    root = hostile(CHECKPOINT_FILE, unnamed_bombs)
+    assert (root / CHECKPOINT_FILE).stat().st_size < 2**21
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 0 and lines == [], lines
+    assert read and not {"extra1.npy", "extra2.npy"} & set(read)
+
+
+def test_the_members_a_state_names_are_capped_together(hostile, monkeypatch:
+                                                        pytest.MonkeyPatch) -> None:
+    """Two fields of 10 MB each, each within the per-member limit, together over it."""
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+
+    def grow(checkpoint: Path) -> None:
+        with np.load(checkpoint, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        tree = json.loads(arrays["__state__"].tobytes())
+        fields = tree["scenario"]["fields"]
+        for name in ("previous", "before_previous"):
+            arrays[fields[name]["__array__"]] = np.zeros(10 * 2**17)
+        buffer = io.BytesIO()
+        np.savez_compressed(buffer, **arrays)
+        checkpoint.write_bytes(buffer.getvalue())
+
+    root = hostile(CHECKPOINT_FILE, grow)
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and "together (at most 16 MB)" in lines[0], lines
 
 
 def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

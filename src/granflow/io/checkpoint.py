@@ -35,7 +35,9 @@ from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
 
 CHECKPOINT_FILE = "checkpoint/state.npz"
 LEGACY_CHECKPOINT_FILE = "checkpoint/state.pkl"
-CHECKPOINT_LIMIT = 1024 * MB   # the largest mesh allowed (100,000 triangles) needs ~100 MB
+# the members a state names, together: the largest mesh allowed (100,000 triangles)
+# needs ~100 MB; members it does not name are never read
+CHECKPOINT_LIMIT = 512 * MB
 READABLE_VERSIONS = (2, STATE_VERSION)
 _STATE_ENTRY = "__state__"
 # the dataclasses a run state holds, by "module:name"; nothing else is ever constructed
@@ -75,14 +77,15 @@ def read_checkpoint(root: Path) -> SimulationState:
                               "checkpoints every output.checkpoint_every steps, when it is "
                               "interrupted, when it fails and when it ends")
     try:
-        arrays = load_npz(read_bytes(path, CHECKPOINT_LIMIT), path, CHECKPOINT_LIMIT)
-        state = arrays.pop(_STATE_ENTRY, None)
-        if state is None or state.dtype != np.uint8 or state.ndim != 1:
+        data = read_bytes(path, CHECKPOINT_LIMIT)
+        state = load_npz(data, path, CHECKPOINT_LIMIT, names=[_STATE_ENTRY])[_STATE_ENTRY]
+        if state.dtype != np.uint8 or state.ndim != 1:
             raise ValueError(f"it has no {_STATE_ENTRY} entry")
         tree = json.loads(state.tobytes().decode("utf-8"))
         if not isinstance(tree, dict) or tree.get("version") not in READABLE_VERSIONS:
             raise CheckpointError(f"the checkpoint '{path}' was written by another version "
                                   "of granflow; rerun the case")
+        arrays = load_npz(data, path, CHECKPOINT_LIMIT, names=sorted(_named_members(tree)))
         parts = [_decode(tree.get(part), arrays) for part in ("loop", "scenario", "outputs")]
         if not all(isinstance(part, dict) for part in parts):
             raise ValueError("its state is not made of the loop's, the scenario's and the "
@@ -102,6 +105,31 @@ def pickle_refusal(root: Path) -> str:
     return (f"'{Path(root) / LEGACY_CHECKPOINT_FILE}' is a checkpoint of granflow 0.1, a "
             "pickle, which can execute code when read: granflow no longer reads it; run the "
             f"case again with `granflow run {Path(root) / 'config.toml'} --out NEW_DIR`")
+
+
+def _named_members(tree: Any) -> set[str]:
+    """The archive members the state's JSON refers to (its arrays, bytes and meshes)."""
+    names: set[str] = set()
+    stack = [tree]
+    while stack:
+        value = stack.pop()
+        if isinstance(value, dict):
+            for tag in ("__array__", "__bytes__"):
+                if tag in value:
+                    names.add(_member(value[tag]))
+            mesh = value.get("__mesh__")
+            if isinstance(mesh, list):                 # version 2: text and coordinates
+                names.update(map(_member, mesh))
+            stack.extend(value.values())
+        elif isinstance(value, list):
+            stack.extend(value)
+    return names
+
+
+def _member(name: Any) -> str:
+    if not isinstance(name, str):
+        raise ValueError(f"its state names an array by {str(name)[:40]!r}")
+    return name
 
 
 def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
