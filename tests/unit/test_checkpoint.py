@@ -186,6 +186,41 @@ def test_a_checkpoint_mesh_is_checked_before_it_is_built(state: SimulationState,
         read_checkpoint(_tampered(tmp_path, edit))
 
 
+@pytest.mark.parametrize("edit, why", [
+    (lambda m: m.update(triangles=np.concatenate([m["triangles"]] * 2)), "a triangle twice"),
+    (lambda m: m.update(triangles=np.concatenate([m["triangles"],
+                                                  m["triangles"][:1, [1, 2, 0]]])),
+     "a triangle twice"),
+    (lambda m: m.update(triangles=m["triangles"][:, ::-1]), "inverted or of no area"),
+    (lambda m: m.update(points=np.zeros_like(m["points"])), "inverted or of no area"),
+    (lambda m: m.update(points=m["points"] * 1e300), "farther than"),
+    (lambda m: m.update(points=m["points"][np.random.default_rng(1).permutation(
+        len(m["points"]))]), "inverted or of no area|overlap"),
+    (lambda m: m.update(segments=m["segments"][1:], labels=m["labels"][1:]),
+     "do not close its domain"),
+    (lambda m: m.update(triangles=m["triangles"][1:]), "do not close its domain"),
+    (lambda m: m.update(segments=np.concatenate([m["segments"], m["segments"][:1]]),
+                        labels=np.concatenate([m["labels"], m["labels"][:1]])),
+     "a boundary segment twice"),
+], ids=["every-triangle-twice", "one-triangle-twice", "clockwise", "collapsed",
+        "scaled-1e300", "permuted", "segment-missing", "triangle-missing", "segment-twice"])
+def test_a_checkpoint_mesh_must_be_one_a_run_could_have(state: SimulationState,
+                                                        tmp_path: Path, edit: Any,
+                                                        why: str) -> None:
+    """Index ranges are not enough: each of these resumed (or ran and failed later)."""
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+
+    def change(tree: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        keys = {name: ref["__array__"] for name, ref in _mesh_entry(tree).items()}
+        mesh = {name: arrays[key] for name, key in keys.items()}
+        edit(mesh)
+        arrays.update({keys[name]: value for name, value in mesh.items()})
+
+    with pytest.raises(CheckpointError, match=why) as err:
+        read_checkpoint(_tampered(tmp_path, change))
+    assert "\n" not in str(err.value)
+
+
 def _vol_text(mesh: ngs.Mesh) -> str:
     """The mesh in Netgen's text format, as checkpoints of version 2 stored it."""
     with tempfile.TemporaryDirectory() as folder:
