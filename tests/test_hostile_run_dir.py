@@ -348,6 +348,27 @@ def test_the_members_a_state_names_are_capped_together(hostile, monkeypatch:
     assert code == 2 and len(lines) == 1 and "together (at most 16 MB)" in lines[0], lines
 
 
+PLANTED = ["plots/holiday.png", "profiles/my_final.csv", "fields/fields_99999.vtu",
+           "frames/frame_99999.npz", "notes.txt"]
+
+
+def test_force_keeps_the_users_files_named_as_the_runs(hostile) -> None:
+    """--force deletes what the run's manifest lists: a user's files, even named as a run
+    names its own, stay; the old run's files are gone (none of its 3 VTUs is left)."""
+    root = hostile("notes.txt", lambda p: p.write_text("mine\n"))
+    for name in PLANTED:
+        (root / name).write_text("mine\n")
+    overrides = [f"--set={key}={value}" for key, value in (COARSE | {"time.t_end": 0.005,
+                                                                     "time.output_times": []
+                                                                     }).items()]
+    code, lines = cli("run", "rectangle-rigid", *overrides, "--out", root, "--force", "--quiet")
+    assert code == 0 and lines == [], lines
+    assert all((root / name).read_text() == "mine\n" for name in PLANTED)
+    assert sorted(p.name for p in (root / "fields").glob("fields_0*.vtu")) == [
+        "fields_00000.vtu", "fields_00001.vtu"]               # the new run's only
+    assert not list((root / "profiles").glob("*_t0.0[12]0.csv"))   # the old output times'
+
+
 def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The disk fills while the figures are drawn: every write from then on fails with
     ENOSPC (the figures', then the error report's)."""

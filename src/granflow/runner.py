@@ -110,9 +110,10 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
         raise RunDirError(f"run directory '{run_dir.root}' must be locked by its writer "
                           "(with run_dir.lock(): ...) before a run starts")
     started = "resumed" if resume else "started"
-    for stale in [*run_dir.path(profiles.FOLDER).glob(f"*_{profiles.FINAL}.csv"),
-                  run_dir.path(f"{profiles.FOLDER}/final_error.txt")]:
-        stale.unlink(missing_ok=True)   # of an earlier session
+    for stale in [*run_dir.written(f"{profiles.FOLDER}/*_{profiles.FINAL}.csv"),
+                  *run_dir.written(f"{profiles.FOLDER}/final_error.txt")]:
+        if not stale.is_dir():
+            stale.unlink(missing_ok=True)   # of an earlier session
     run_dir.write_json("summary.json", _summary_head(
         config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
     try:

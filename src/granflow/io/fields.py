@@ -47,7 +47,8 @@ class FieldSnapshots:
                  resume: Mapping[str, Any] | None = None,
                  cell_data: Callable[[], dict[str, np.ndarray]] | None = None) -> None:
         self.state, self.cell_data = state, cell_data
-        self.series = VtkSeries(run_dir.path(FOLDER))
+        self.series = VtkSeries(run_dir.path(FOLDER),
+                                place=lambda name: run_dir.path(f"{FOLDER}/{name}"))
         self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
 
     def write(self, t: float) -> None:

@@ -13,6 +13,7 @@ import math
 import os
 import re
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -34,8 +35,9 @@ _SNAPSHOT = re.compile(r"[A-Za-z0-9_-]{1,100}\.vtu")   # a file of fields/ itsel
 class VtkSeries:
     """A folder of ``fields_NNNNN.vtu`` files and ``fields.pvd`` listing them with times."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(self, folder: Path, place: Callable[[str], Path] | None = None) -> None:
         self.folder = folder
+        self.place = place or (lambda name: folder / name)   # where a file of it goes
         self.entries: list[tuple[float, str]] = []
 
     def write(self, t: float, points: np.ndarray, triangles: np.ndarray,
@@ -46,7 +48,7 @@ class VtkSeries:
         pdata = {k: _as_3d(v) for k, v in point_data.items()}
         mesh = meshio.Mesh(pts, [("triangle", triangles)], point_data=pdata,
                            cell_data={k: [np.asarray(v)] for k, v in cell_data.items()})
-        with atomic_file(self.folder / name) as tmp:
+        with atomic_file(self.place(name)) as tmp:
             meshio.write(tmp, mesh, file_format="vtu")
         self.entries.append((t, name))
         self._write_index()
@@ -57,7 +59,7 @@ class VtkSeries:
                          for t, f in self.entries)
         text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                 f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
-        atomic_write_text(self.folder / INDEX, text)
+        atomic_write_text(self.place(INDEX), text)
 
 
 def _as_3d(values: np.ndarray) -> np.ndarray:
