@@ -30,7 +30,7 @@ import granflow.runner as runner
 from granflow.cli import main
 from granflow.config import ConfigError
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, write_checkpoint
-from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.run_dir import SUMMARY_LIST_LIMIT, RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 
 COARSE = {"geometry.width": 0.1, "geometry.height": 0.1, "mesh.size": 0.025,
@@ -367,6 +367,52 @@ def test_force_keeps_the_users_files_named_as_the_runs(hostile) -> None:
     assert sorted(p.name for p in (root / "fields").glob("fields_0*.vtu")) == [
         "fields_00000.vtu", "fields_00001.vtu"]               # the new run's only
     assert not list((root / "profiles").glob("*_t0.0[12]0.csv"))   # the old output times'
+
+
+@pytest.mark.parametrize("count", [10**6, 500])
+def test_a_summary_of_many_events_is_bounded_and_so_is_its_figure(
+        hostile, count: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """10^6 remesh times drew one line each, for minutes and with no word: a list longer
+    than the summary allows is left out (as a member of the wrong type); 500 are counted in
+    the figure's legend, not drawn."""
+    from matplotlib.axes import Axes
+
+    def edit(path: Path) -> None:
+        summary = json.loads(path.read_text())
+        path.write_text(json.dumps(summary | {"remesh_times_s": [1e-6 * i
+                                                                 for i in range(count)]}))
+
+    root = hostile("summary.json", edit)
+    marks: list[float] = []
+    axvline = Axes.axvline
+    monkeypatch.setattr(Axes, "axvline", lambda self, x=0, *a, **k: (
+        marks.append(x), axvline(self, x, *a, **k))[1])
+    code, lines = cli("plot", root)
+    assert code == 0 and lines == [], lines
+    assert ("remesh_times_s" in RunDir.summary(root)) == (count <= SUMMARY_LIST_LIMIT)
+    assert len(marks) < 10 and (root / "plots" / "front_and_energy.png").is_file()
+
+
+WIDE = ",".join(f"c{i}" for i in range(10**5)) + "\n"
+
+
+@pytest.mark.parametrize("command", ["plot", "resume"])
+def test_an_error_line_stays_short(hostile, command: str) -> None:
+    """A diagnostics file 100k columns wide put them all in its one error line."""
+    root = hostile("diagnostics.csv", lambda p: p.write_text(WIDE + ",".join(["x"] * 10**5)))
+    code, lines = cli(command, root, *(["--quiet"] if command == "resume" else []))
+    assert code == 2 and len(lines) == 1 and len(lines[0]) < 500, lines
+
+
+def test_a_snapshot_error_stays_short(hostile) -> None:
+    """An index of 100k snapshots put their 100k times in one error."""
+    rows = "".join(f'<DataSet timestep="{i}" file="fields_00000.vtu"/>' for i in range(10**5))
+    root = hostile("fields/fields.pvd", lambda p: p.write_text(
+        f'<?xml version="1.0"?><VTKFile type="Collection"><Collection>{rows}'
+        "</Collection></VTKFile>"))
+    with pytest.raises(ValueError, match="no snapshot at t = 0.5 s") as err:
+        granflow.load(root).fields(0.5)
+    assert len(str(err.value)) < 300
 
 
 def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import Config, ConfigError, config_to_toml, load_config
+from granflow.config.messages import fmt_value
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, read_checkpoint
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
@@ -145,7 +146,8 @@ def _check_times(root: Path, status: str | None, saved: Config, config: Config,
     if now != done:
         raise ConfigError(
             f"time.output_times may only add times after the run's time t = {t:.6g} s "
-            f"(the earlier ones, {done or 'none'}, are written and stay as they are)")
+            f"(the earlier ones, {fmt_value(done) if done else 'none'}, are written and stay "
+            "as they are)")
 
 
 def _adapt(state: SimulationState, config: Config, changed: list[str]) -> None:

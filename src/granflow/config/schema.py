@@ -267,7 +267,7 @@ class Time(_Section):
     stop_at_rest: bool  # end the run once the mass has come to rest
     rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
     rest_duration: Annotated[float, Field(ge=0, le=1e4)]  # s at rest before the run ends
-    output_times: list[float]
+    output_times: Annotated[list[float], Field(max_length=10_000)]
 
 
 class SurfaceTension(_Section):

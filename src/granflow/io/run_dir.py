@@ -235,7 +235,7 @@ class RunDir:
         """``path``/summary.json, or {} without a readable one (missing, not a regular
         file, not JSON, not an object). Members granflow reads that have the wrong type (a
         status that is not text, a time that is not a number) are left out, as if
-        missing."""
+        missing; so are lists of times longer than ``SUMMARY_LIST_LIMIT``."""
         try:
             summary = json.loads(read_text(Path(path) / "summary.json", SUMMARY_LIMIT))
         except (RunDirError, ValueError, RecursionError):
@@ -306,6 +306,8 @@ class RunDir:
         return CsvLog(self.path(relpath), header, resume=resume)
 
 
+SUMMARY_LIST_LIMIT = 10_000      # times in one summary list (a run remeshes a few hundred)
+_SUMMARY_LISTS = frozenset({"outputs_at_rest", "remesh_times_s", "deposition_times_s"})
 _SUMMARY_TEXT = frozenset({"scenario", "status", "message", "linear_solver"})
 _SUMMARY_NUMBERS = frozenset({
     "t_final", "final_profiles_t", "stop_time_s", "wall_time_s", "runout_m", "steps",
@@ -322,8 +324,9 @@ def _summary_member_ok(key: str, value: Any) -> bool:
         return isinstance(value, str)
     if key in _SUMMARY_NUMBERS:
         return value is None or number(value)
-    if key == "outputs_at_rest":
-        return isinstance(value, list) and all(number(x) for x in value)
+    if key in _SUMMARY_LISTS:
+        return isinstance(value, list) and len(value) <= SUMMARY_LIST_LIMIT and all(
+            number(x) for x in value)
     return True
 
 

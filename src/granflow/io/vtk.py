@@ -22,6 +22,7 @@ import meshio
 import numpy as np
 from meshio import vtu
 
+from granflow.config.messages import fmt_value
 from granflow.io.run_dir import RunDirError, atomic_file, atomic_write_text
 from granflow.io.untrusted import MB, parse_xml, read_bytes
 from granflow.io.vtu_check import VTU_LIMIT, check_vtu
@@ -94,7 +95,7 @@ class Fields:
         if name in self.cell_data:
             return self.cell_data[name]
         raise KeyError(f"no field {name!r}; fields: "
-                       f"{', '.join([*self.point_data, *self.cell_data])}")
+                       f"{fmt_value([*self.point_data, *self.cell_data])}")
 
 
 def snapshots(root: Path) -> list[tuple[float, str]]:
@@ -129,7 +130,7 @@ def read_snapshot(root: Path, t: float) -> Fields:
     nearest, name = min(found, key=lambda item: abs(item[0] - t))
     if not abs(nearest - t) <= 1e-6:
         raise ValueError(f"no snapshot at t = {t:g} s; snapshots at "
-                         f"{', '.join(f'{s:g}' for s, _ in found)} s")
+                         f"{fmt_value([float(f'{s:g}') for s, _ in found])} s")
     path = Path(root, FOLDER, name)
     data = read_bytes(path, VTU_LIMIT)
     check_vtu(data, path)
