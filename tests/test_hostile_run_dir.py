@@ -404,6 +404,16 @@ def test_an_error_line_stays_short(hostile, command: str) -> None:
     assert code == 2 and len(lines) == 1 and len(lines[0]) < 500, lines
 
 
+def test_a_column_of_mixed_types_is_one_line_and_no_warning(hostile, recwarn) -> None:
+    """A word among 400k numbers: pandas warned (DtypeWarning) before granflow's line."""
+    rows = [f"{i * 1e-6},1" for i in range(2 * 10**5)]
+    root = hostile("diagnostics.csv", lambda p: p.write_text(
+        "\n".join(["t,dt", *rows, "x,1", *rows]) + "\n"))
+    code, lines = cli("plot", root)
+    assert code == 2 and len(lines) == 1 and "column 't' is not numbers" in lines[0], lines
+    assert not [w for w in recwarn if "DtypeWarning" in w.category.__name__]
+
+
 def test_a_snapshot_error_stays_short(hostile) -> None:
     """An index of 100k snapshots put their 100k times in one error."""
     rows = "".join(f'<DataSet timestep="{i}" file="fields_00000.vtu"/>' for i in range(10**5))

@@ -73,7 +73,7 @@ def read_diagnostics(root: Path) -> pd.DataFrame:
     if not text:
         return pd.DataFrame(columns=COLUMNS)
     try:
-        table = pd.read_csv(io.StringIO(text))
+        table = pd.read_csv(io.StringIO(text), low_memory=False)   # whole columns typed
     except (ValueError, pd.errors.ParserError) as err:
         raise RunDirError(f"'{path}' is not a CSV table: {str(err).strip()[:200]}") from None
     odd = [c for c in table.columns if table[c].dtype.kind not in "biuf"]
