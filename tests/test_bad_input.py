@@ -260,12 +260,14 @@ DEEP = "a = " + "[" * 5000 + "]" * 5000 + "\n"
     (["sweep", "case.toml"], 'base = "rectangle-rigid"\n[vary]\n"mesh.size" = ['
      + ", ".join(["0.05"] * 101) + ']\n"geometry.height" = [' + ", ".join(["0.1"] * 101)
      + "]\n"),
+    (["run", "cylinder-rigid", "--set", "gate.enabled=true"], None),
 ], ids=["scenario-list", "scenario-table", "deep-arrays", "deep-value", "deep-sweep",
         "dev-zero", "dev-urandom", "sweep-dev-zero", "tiny-mesh", "tiny-plug-mesh",
         "tiny-layer", "tiny-viscosity", "tiny-dt", "tiny-dt-max", "tiny-tol", "huge-mesh",
         "verify-out-file", "verify-scheduler", "front-angle-5e-324", "5000-digits",
         "5000-digits-file", "tol-1e-14", "t-end-10000-no-rest", "width-1000", "mesh-0.0012",
-        "more-outputs-than-steps", "run-out-empty", "verify-out-empty", "sweep-10201-runs"])
+        "more-outputs-than-steps", "run-out-empty", "verify-out-empty", "sweep-10201-runs",
+         "gate-on-a-cylinder"])
 def test_the_last_bad_inputs_exit_2_with_one_line(args: list[str], toml: str | None) -> None:
     """Each once ended in a traceback, a hang or hours of computing."""
     check_refused(args, toml)
