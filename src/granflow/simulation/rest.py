@@ -14,12 +14,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar, Protocol
 
 from granflow.simulation.state_spec import FLAG, TIME, Share, or_none
 
-if TYPE_CHECKING:
-    from granflow.simulation.simulation import Simulation
+
+class Clock(Protocol):
+    """What the criterion reads of the loop (``Simulation``): its time."""
+
+    t: float
 
 
 @dataclass
@@ -41,7 +44,7 @@ class RestCriterion:
         rest_since = state["rest_since"]
         self.rest_since = None if rest_since is None else float(rest_since)  # type: ignore[arg-type]
 
-    def __call__(self, sim: Simulation) -> str | None:
+    def __call__(self, sim: Clock) -> str | None:
         if self.flowing_fraction() > self.fraction:
             self.moved, self.rest_since = True, None
             return None
