@@ -14,8 +14,7 @@ import pytest
 import shapely
 
 from granflow.config import load_config
-from granflow.fem.engine import NGSOLVE_OPS
-from granflow.fem.forms import read_on_walls
+from granflow.fem.engine import NGSOLVE_OPS, read_on_walls
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import BED, signed_areas
 from granflow.io.checkpoint import read_checkpoint, write_checkpoint
@@ -153,7 +152,7 @@ def test_the_walls_see_the_layer_material_under_them() -> None:
     mesh = problem.mesh
     on_bed = ngs.ds(definedon=mesh.Boundaries(BED))
     assert ngs.Integrate(law.fraction * on_bed, mesh) == 0.0
-    law = read_on_walls(law)              # what the wall term reads (fem/forms.py)
+    law = read_on_walls(law)              # what the wall term reads (fem/engine.py)
     assert ngs.Integrate(law.fraction * on_bed, mesh) == pytest.approx(0.5, rel=1e-12)
     pressure, rate = ngs.CF(100.0), ngs.CF(1.0)
     blended = ngs.Integrate(law.effective_viscosity_sq(rate, pressure, NGSOLVE_OPS) * on_bed,

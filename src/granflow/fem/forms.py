@@ -21,7 +21,7 @@ from typing import Protocol
 
 import ngsolve as ngs
 
-from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.engine import NGSOLVE_OPS, read_on_walls
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.physics import CoulombFriction, Rheology, SideWallFriction
 
@@ -29,14 +29,6 @@ from granflow.physics import CoulombFriction, Rheology, SideWallFriction
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """Du = (grad u + grad u^T) / 2 in plane strain (``fem/measure.py`` for axisymmetry)."""
     return PLANE.strain_rate(u)
-
-
-def read_on_walls(law: Rheology) -> Rheology:
-    """``law`` as a boundary integral reads it: the fields it holds per triangle (a
-    hysteretic friction's state, the share of a layer's material) taken from the adjacent
-    triangle, where a piecewise constant field would be 0."""
-    with_fields = getattr(law, "with_fields", None)
-    return law if with_fields is None else with_fields(ngs.BoundaryFromVolumeCF)
 
 
 def frobenius(tensor: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -78,10 +70,9 @@ class Term(Protocol):
     """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p).
 
     A term whose ``lhs`` does not read (u_lin, p_lin) sets ``step_constant = True``: the
-    fixed-point iteration assembles it once per step instead of once per iteration. A term
-    that reads the volume on a boundary (``ngs.BoundaryFromVolumeCF``) sets ``compiled =
-    False``: NGSolve's compiler does not know that coefficient (it prints a line per node
-    and computes the same matrix).
+    fixed-point iteration assembles it once per step instead of once per iteration. One that
+    reads the volume on a boundary (``BoundaryFromVolumeCF``) sets ``compiled = False``:
+    NGSolve's compiler prints a line per such node (and computes the same matrix).
     """
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...

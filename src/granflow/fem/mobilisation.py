@@ -37,7 +37,7 @@ class MobilisationField:
         self.space = ngs.L2(mesh, order=0, dgjumps=True)
         self.state = ngs.GridFunction(self.space)
         # the law reads it as it is; on a wall from the adjacent triangle (a plain L2
-        # function is 0 on a boundary element): ``fem/forms.py: read_on_walls``
+        # function is 0 on a boundary element): ``fem/engine.py: read_on_walls``
         self.cf = self.state
         self._mesh_velocity = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
 

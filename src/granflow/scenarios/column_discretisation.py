@@ -166,7 +166,7 @@ def _materials(config: Config, mesh: ngs.Mesh, mobilisation: MobilisationField |
                ) -> tuple[Rheology, Density, ngs.GridFunction | None]:
     """One material: [material]'s law and density. A layer of its own: both blended with
     the indicator, a piecewise constant share of layer material per triangle (read on the
-    walls from the adjacent triangle, ``fem/forms.py: read_on_walls``: a plain L2 function
+    walls from the adjacent triangle, ``fem/engine.py: read_on_walls``: a plain L2 function
     is 0 on a boundary element, which would give the Coulomb walls' load under the layer
     the column's law). A hysteretic
     friction reads the mobilisation field (``fem/mobilisation.py``)."""
