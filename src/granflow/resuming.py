@@ -79,6 +79,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                                       f"configuration: {type(exc).__name__}: "
                                       f"{str(exc)[:300]}") from None
         run_dir.remove_temporary_files()        # left by a killed run
+        run_dir.adopt_layout()                  # a run of an earlier granflow: its files
         if changed:
             run_dir.write_text("config.toml", config_to_toml(config))
         if log is not None:

@@ -83,12 +83,20 @@ def test_force_deletes_only_what_the_manifest_lists_inside_the_layout(tmp_path: 
 
 
 def test_force_refuses_a_run_of_an_earlier_granflow_without_a_manifest(tmp_path: Path) -> None:
+    """Refused as it is; once resumed, its files of the layout are listed as its own."""
     run = RunDir.create(tmp_path / "run")
     run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    run.write_text("fields/fields_00003.vtu", "x\n")
+    (run.root / "notes.txt").write_text("mine\n")
     (run.root / MANIFEST).unlink()
     with pytest.raises(RunDirError, match="kept no list of the files it wrote"):
         RunDir.create(run.root, force=True)
     assert (run.root / "config.toml").exists()
+    RunDir(run.root).adopt_layout()                 # as `granflow resume` does
+    assert (run.root / MANIFEST).read_text().splitlines() == [
+        "config.toml", "fields/fields_00003.vtu"]
+    RunDir.create(run.root, force=True)
+    assert files_in(run.root) == sorted([LOCK_FILE, "notes.txt"])
 
 
 def test_an_empty_or_unwritable_out_is_an_error(tmp_path: Path) -> None:

@@ -28,7 +28,7 @@ from filelock import FileLock, Timeout
 from granflow.io.atomic import atomic_file, atomic_write_bytes, atomic_write_text
 from granflow.io.csv_log import CsvLog
 from granflow.io.folders import check_folder, prepare_folder
-from granflow.io.untrusted import MB, RunDirError, read_bytes, read_text
+from granflow.io.untrusted import MB, RunDirError, is_regular, read_bytes, read_text
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
            "atomic_write_text", "check_folder", "prepare_folder"]
@@ -147,6 +147,21 @@ class RunDir:
             text = read_text(path, SUMMARY_LIMIT) if os.path.lexists(path) else ""
             self._listed = set(text.splitlines())
         return self._listed
+
+    def adopt_layout(self) -> None:
+        """In a folder without a manifest (a run of an earlier granflow, being resumed),
+        list the files of the layout it holds: they are that run's, and a later --force
+        deletes them with the resumed session's."""
+        if os.path.lexists(self.root / MANIFEST):
+            return
+        found = [name for name in RUN_FILES if is_regular(self.root / name)]
+        for folder, names in RUN_FOLDERS.items():
+            path = self.root / folder
+            if path.is_dir() and not path.is_symlink():
+                found += [f"{folder}/{e.name}" for e in sorted(path.iterdir())
+                          if names.fullmatch(e.name) and is_regular(e)]
+        for entry in found:
+            self._record(entry)
 
     def written(self, pattern: str) -> list[Path]:
         """The files of the layout the manifest lists whose paths match ``pattern`` (a
