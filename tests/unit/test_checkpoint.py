@@ -280,3 +280,25 @@ def test_a_bad_netgen_text_is_one_error_never_a_crash(state: SimulationState, tm
     with pytest.raises(CheckpointError, match="mesh|checkpoint") as err:
         read_checkpoint(_tampered(tmp_path, _as_version_2(text)))
     assert "\n" not in str(err.value)
+
+
+def test_a_fixed_step_policy_is_read_back_also_as_earlier_versions_wrote_it(
+        tmp_path: Path) -> None:
+    """A field left at its class default (RampedStep.recovering) was not written, and the
+    checkpoint of every fixed-step run was refused on resume: it is written now, and read
+    with its default where an earlier checkpoint lacks it."""
+    problem = build_problem(load_config("plug-flow", ["time.t_end=0.01",
+                                                      "output.progress=false"]))
+    problem.simulation.run()
+    state = SimulationState(loop=problem.simulation.save_state(), scenario=problem.save_state(),
+                            outputs={})
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+
+    def fields(policy: Any) -> dict[str, Any]:
+        return {f.name: getattr(policy, f.name) for f in dataclasses.fields(policy)}
+
+    policy = state.loop["steps_policy"]
+    assert fields(read_checkpoint(tmp_path / "run").loop["steps_policy"]) == fields(policy)
+    earlier = _tampered(tmp_path, lambda tree, arrays: tree["loop"]["steps_policy"][
+        "fields"].pop("recovering"))
+    assert fields(read_checkpoint(earlier).loop["steps_policy"]) == fields(policy)

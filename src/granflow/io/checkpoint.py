@@ -158,7 +158,8 @@ def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
         name = f"{type(value).__module__}:{type(value).__qualname__}"
         if name not in _DATACLASSES:
             raise TypeError(f"checkpoint: {name} is not in the list of state dataclasses")
-        return {"__dataclass__": name, "fields": _encode(dict(vars(value)), arrays)}
+        return {"__dataclass__": name, "fields": _encode(
+            {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}, arrays)}
     raise TypeError(f"checkpoint: cannot store a {type(value).__name__}")
 
 
@@ -182,16 +183,20 @@ def _decode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
 
 
 def _dataclass(name: Any, fields: Any) -> Any:
-    """An instance of a listed state dataclass with exactly its own fields."""
+    """An instance of a listed state dataclass with its own fields only, each given or
+    with a default (earlier checkpoints left out a field never set after its default)."""
     if name not in _DATACLASSES:
         raise ValueError(f"unknown state class {str(name)[:60]!r}")
     module, qualname = name.split(":")
     cls = getattr(importlib.import_module(module), qualname)
+    defaults = {f.name: f.default for f in dataclasses.fields(cls)
+                if f.default is not dataclasses.MISSING}
     names = {f.name for f in dataclasses.fields(cls)}
-    if not isinstance(fields, dict) or set(fields) != names:
+    if not isinstance(fields, dict) or not set(defaults) | set(fields) >= names or \
+            not set(fields) <= names:
         raise ValueError(f"the state of {qualname} does not have its fields {sorted(names)}")
     obj = cls.__new__(cls)
-    obj.__dict__.update(fields)
+    obj.__dict__.update(defaults | fields)
     return obj
 
 

@@ -32,7 +32,7 @@ from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.state_spec import (
-    MAYBE_NAN,
+    ANY_NUMBER,
     Share,
     dataclass_of,
     list_of,
@@ -64,7 +64,7 @@ class ColumnMeasures(Outputs):
     figures = (collapse_figures,)
     animated = True
     share: ClassVar[Share] = {
-        "history": record({name: list_of(MAYBE_NAN, length="history steps")
+        "history": record({name: list_of(ANY_NUMBER, length="history steps")
                            for name in _history()}),
         "inertial": may_lack(or_none(dataclass_of(InertialNumbers)))}
 

@@ -59,11 +59,11 @@ def _real(x: Any) -> bool:
     return isinstance(x, int | float) and not isinstance(x, bool)
 
 
-def number(low: float = -math.inf, *, above: bool = False, nan: bool = False) -> Check:
-    """A finite number >= ``low`` (> with ``above``); NaN too with ``nan``."""
+def number(low: float = -math.inf, *, above: bool = False) -> Check:
+    """A finite number >= ``low`` (> with ``above``)."""
     bound = "" if low == -math.inf else f" {'>' if above else '>='} {low:g}"
-    return Check(f"a number{bound}", lambda x, w, d: _real(x) and (
-        (nan and math.isnan(x)) or (math.isfinite(x) and (x > low if above else x >= low))))
+    return Check(f"a number{bound}", lambda x, w, d: _real(x) and math.isfinite(x) and (
+        x > low if above else x >= low))
 
 
 def whole(low: int = 0) -> Check:
@@ -73,7 +73,7 @@ def whole(low: int = 0) -> Check:
 
 TIME = number(0.0)
 REAL = number()
-MAYBE_NAN = number(nan=True)
+ANY_NUMBER = Check("a number (NaN or infinite too)", lambda x, w, d: _real(x))  # a measure
 COUNT = whole()
 FLAG = Check("true or false", lambda x, w, d: isinstance(x, bool))
 TEXT = Check(f"a text of at most {MAX_TEXT} characters",
@@ -207,7 +207,7 @@ def _annotated(tp: Any) -> Check:
         return tuple_of(*map(_annotated, args))
     if origin is dict:
         return mapping(_annotated(args[1]))
-    simple = {bool: FLAG, int: COUNT, float: MAYBE_NAN, str: TEXT, np.ndarray: array(None)}
+    simple = {bool: FLAG, int: COUNT, float: ANY_NUMBER, str: TEXT, np.ndarray: array(None)}
     if tp not in simple:
         raise TypeError(f"no state check for a field of type {tp}")
     return simple[tp]
