@@ -33,9 +33,8 @@ import sys
 import time
 from pathlib import Path
 
+from common.results import read_results, report, write_json, write_markdown
 from erosion_slopes import overrides as slope_overrides
-
-from granflow.io.run_dir import atomic_write_text
 
 RIGID_22_RUNOUT_M = 4.5125   # the slope study's rigid trapezoid at 22 degrees (its JSON)
 PAIRS = {
@@ -76,7 +75,7 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
         for label, (scenario, sets, src) in (("first", first), ("second", second)):
             result = run(scenario, sets, out / name / f"{label}{k}", src)
             runs[label].append(result)
-            print(name, label, k, json.dumps(result), flush=True)
+            report(f"{name} {label} {k}", result)
     median = {label: statistics.median(r["process_wall_time_s"] for r in rows)
               for label, rows in runs.items()}
     cpu = {label: statistics.median(r["process_cpu_time_s"] for r in rows)
@@ -106,14 +105,14 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed_targets"))
     args = parser.parse_args(argv)
     results_file = args.out / "speed_targets.json"
-    results = json.loads(results_file.read_text()) if results_file.is_file() else {}
+    results = read_results(results_file)
     cases = {name: ((*PAIRS[name][0], None), (*PAIRS[name][1], None)) for name in args.pairs}
     if args.baseline_src is not None:
         cases["baseline"] = (("trapezoid-rigid", [], args.baseline_src.resolve()),
                              ("trapezoid-rigid", [], None))
     for name, (first, second) in cases.items():
         results[name] = compare(name, first, second, args.repeat, args.out / "runs")
-        atomic_write_text(results_file, json.dumps(results, indent=2))
+        write_json(results_file, results)
     lines = ["| pair | first | second | processor time (s), first / second | second / first "
              "| wall time (s), first / second | second / first | iterations, first / second |",
              "|---|---|---|---|---|---|---|---|"]
@@ -124,8 +123,7 @@ def main(argv: list[str]) -> None:
                      f"{c['first']:.1f} / {c['second']:.1f} | {r['cpu_ratio_second_to_first']:.2f} "
                      f"| {p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} "
                      f"| {its[0]} / {its[1]} |")
-    print("\n".join(lines))
-    atomic_write_text(args.out / "speed_targets.md", "\n".join(lines) + "\n")
+    write_markdown(args.out / "speed_targets.md", lines, show=True)
 
 
 if __name__ == "__main__":

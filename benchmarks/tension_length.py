@@ -19,12 +19,10 @@ against each other on the verified scenarios; OUT/tension_length.md the table.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
+from common.results import write_results
 from common.runs import COLLAPSE_KEYS, run_or_continue, surfaces_m
-
-from granflow.io.run_dir import atomic_write_text
 
 STRONG = "layer.friction_angle_deg"
 # name: (scenario, overrides); "strong-A-M" has the layer at A deg under the 25.5 deg
@@ -101,9 +99,7 @@ def main() -> None:
         if not one_material(case) and not case.startswith("one-") and len(by_length) == 2:
             results["free_surfaces"][case] = surfaces_m(
                 *(args.out / "runs" / length / case for length in ("mesh_size", "local_edge")))
-    atomic_write_text(args.out / "tension_length.json", json.dumps(results, indent=2))
-    atomic_write_text(args.out / "tension_length.md", table(results))
-    print(table(results))
+    write_results(args.out, "tension_length", results, table(results), show=True)
 
 
 if __name__ == "__main__":

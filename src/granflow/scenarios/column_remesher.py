@@ -31,7 +31,7 @@ from granflow.scenarios.column_discretisation import (
     layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
-from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.state_spec import (
     COUNT,
