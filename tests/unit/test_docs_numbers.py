@@ -34,6 +34,15 @@ ASPECT = "aspect_ratio/aspect_ratio.json"
 CYLINDER = "aspect_ratio_cylinder/aspect_ratio.json"
 FIRST_RUNS = "collapse/paper.json"
 HYSTERESIS = "hysteresis/hysteresis.json"
+REPRODUCIBILITY = "reproducibility/reproducibility.json"
+
+
+def _path_run(setting: str, key: str, member: str | None = None) -> Callable[[Any], float]:
+    """A setting's value in the reproducibility record (its keys hold dots and spaces)."""
+    def value(data: Any) -> float:
+        entry = data["settings"][setting][key]
+        return entry if member is None else entry[member]
+    return value
 
 
 def _rectangles_vs(law: str) -> Callable[[Any], float]:
@@ -201,6 +210,22 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      "threshold.slow_q99_max", ".3f", 1),
     ("docs/model.md", "shear at most at {} 1/s", HYSTERESIS, "threshold.slow_q99_max",
      ".3f", 1),
+    ("docs/performance.md", "no output times: steps, iterations | 955, {} |", REPRODUCIBILITY,
+     _path_run("default", "default_collapse", "iterations"), ",d", 1),
+    ("docs/performance.md", "| 955, 1,756 | 955, {} |", REPRODUCIBILITY,
+     _path_run("COMPATIBLE", "default_collapse", "iterations"), ",d", 1),
+    ("docs/performance.md", "cylinder / rectangle | 4.4e-7 / {} |", REPRODUCIBILITY,
+     _path_run("default", "rectangle-rigid floor 0.001", "max_speed"), ".1e", 1),
+    ("docs/performance.md", "| 5.7e-7 / {} |", REPRODUCIBILITY,
+     _path_run("COMPATIBLE", "rectangle-rigid floor 0.001", "max_speed"), ".1e", 1),
+    ("docs/performance.md", "| 3.19e-7 / 8.19e-8 | 3.19e-7 / {} |", REPRODUCIBILITY,
+     _path_run("COMPATIBLE", "rectangle-rigid floor 1e-07", "max_speed"), ".2e", 1),
+    ("docs/performance.md", "test_erodible.py) | {} / 0.41625 |", REPRODUCIBILITY,
+     _path_run("default", "erosion_front_x layer_ahead 0"), ".5f", 1),
+    ("docs/performance.md", "1,728 / 26,525 unknowns | 3.1 / {} |", REPRODUCIBILITY,
+     _path_run("default", "refactorise_ms 26525 unknowns"), ".0f", 1),
+    ("docs/performance.md", "| 3.1 / 170 | 7.8 / {} |", REPRODUCIBILITY,
+     _path_run("COMPATIBLE", "refactorise_ms 26525 unknowns"), ".0f", 1),
 ]
 
 

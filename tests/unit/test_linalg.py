@@ -1,5 +1,11 @@
 """The sparse LU of the momentum system (3.2) solves it to round-off (fem/linalg.py)."""
 
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
 import ngsolve as ngs
 import pytest
 
@@ -43,3 +49,28 @@ def test_column_system_solved_to_round_off(solver: str,
         system.iterate(flow.solution.vec)
         matrix = system.assemble()
         reference.data = matrix.Inverse(flow.space.FreeDofs(), inverse="umfpack") * rhs
+
+
+def test_mkl_runs_its_reproducible_kernels() -> None:
+    """PARDISO runs in MKL's conditional numerical reproducibility mode, SSE2 kernels on
+    every x86-64 CPU, when the user has not chosen one: ``import granflow`` sets it before
+    MKL first computes. Without it the same run differs between CPUs (docs/performance.md,
+    Reproducibility). Checked in a fresh process, as a user starts one."""
+    if direct_solver("auto") != "pardiso":
+        pytest.skip("Intel MKL not installed")
+    probe = textwrap.dedent("""
+        import ctypes, pathlib
+        import granflow
+        from granflow.fem.linalg import pardiso_available
+        assert pardiso_available()
+        loaded = pathlib.Path("/proc/self/maps").read_text().split()
+        runtime = next(p for p in loaded if pathlib.Path(p).name.startswith("libmkl_rt.so"))
+        print(ctypes.CDLL(runtime).MKL_CBWR_Get(1))   # MKL_CBWR_BRANCH (mkl_service.h)
+    """)
+    if not Path("/proc/self/maps").exists():
+        pytest.skip("the loaded libraries are listed in /proc on Linux only")
+    env = {k: v for k, v in os.environ.items() if k != "MKL_CBWR"}
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          env=env, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split()[-1] == "3"          # MKL_CBWR_COMPATIBLE

@@ -58,18 +58,30 @@ def test_revolved_volume_drift_without_the_correction_is_small_but_visible() -> 
                                              ("rectangle-rigid", ["geometry.width=0.1"])])
 def test_a_column_whose_yield_stress_holds_its_load_stays_at_rest(scenario: str,
                                                                   extra: list[str]) -> None:
-    """Friction angle 60 degrees: the column does not move beyond the creep of the
-    regularisation (eps = 1e-6 1/s times the column's size: ~1e-7 m/s), in r-z as in plane
-    strain; measured 3.2e-7 and 8.3e-8 m/s, displacements 1.6e-8 and 7e-9 m in 0.05 s."""
+    """Friction angle 60 degrees: the column creeps as the regularisation (2.13) lets it and
+    no faster, in r-z as in plane strain. Below the yield stress the regularised law gives
+    strain rates of order eps (1e-6 1/s), so speeds of order eps h0 (1.4e-7 m/s) and
+    displacements of order eps h0 t_end (7e-9 m in 0.05 s); the bounds are 10 times those,
+    and a column that yielded would move at about sqrt(g h0), 1 m/s. The iteration's velocity
+    floor is the creep scale, not the flowing threshold (1 mm/s, at which (3.2) stops anywhere
+    below 3e-7 m/s and round-off alone, the LU or MKL's code path, moved these speeds from
+    3e-7 to 2e-6 m/s): the creep is then resolved, the same with PARDISO in any code path
+    and with UMFPACK to 15 digits. Measured 3.19e-7 and 8.19e-8 m/s (2.3 and 0.6 eps h0),
+    displacements 1.63e-8 and 3.6e-9 m; with eps 10 times larger, 8 and 10 times more
+    (the bed's eps_friction 10 times larger: 1.6 and 1 times)."""
     problem = build_column(load_config(scenario, [
         *extra, *COARSE, "time.t_end=0.05", "material.friction_angle_deg=60",
         "boundary.bed_friction_deg=60", "time.stop_at_rest=false",
-        "numerics.linearization=newton", "numerics.max_iterations=50"]))
+        "numerics.linearization=newton", "numerics.max_iterations=50",
+        "numerics.velocity_floor=1e-7"]))
+    config = problem.config
+    creep = config.numerics.eps * config.geometry.height      # m/s
     xy0 = problem.mesh.ngmesh.Coordinates().copy()
     assert problem.simulation.run().status == "completed"
     speed, _ = cell_means(problem.mesh, ngs.Norm(problem.solver.velocity))
-    assert speed.max() < 1e-6
-    assert np.abs(problem.mesh.ngmesh.Coordinates() - xy0).max() < 1e-7
+    assert speed.max() < 10 * creep
+    moved = np.abs(problem.mesh.ngmesh.Coordinates() - xy0).max()
+    assert moved < 10 * creep * config.time.t_end
 
 
 def test_axisymmetric_settings_are_refused_where_they_mean_nothing() -> None:

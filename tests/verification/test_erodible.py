@@ -75,8 +75,15 @@ def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -
     """mesh.layer_ahead = 5 cm: the layer is meshed only ahead of the moving material and
     lengthened as the flow comes (a 10 deg slope, 20 deg friction, 0.15 s, 4 cm cells). The
     front, the erosion front and the displaced layer agree with the whole layer's run within
-    what two meshes of 4 cm cells differ by (measured: 1.1 mm, 0.01 mm, 1.2 %), the fix
-    conserves the lengthened area, and the layer beyond the meshed end has not moved."""
+    what two meshes of 4 cm cells differ by (measured: 1.1 mm, 0 mm, 1.7 %), the fix
+    conserves the lengthened area, and the layer beyond the meshed end has not moved.
+
+    The erosion front is the furthest marker (2.5 mm apart) faster than 1 mm/s; ahead of the
+    flow the layer's speed falls by about 4 times per marker, from 10 to 0.01 mm/s over two
+    layer cells (5 mm each), so where it crosses 1 mm/s is resolved to about a layer cell:
+    round-off alone (the LU, MKL's code path) remeshed the whole layer's run differently
+    (891 to 1,003 triangles) and moved its erosion front by 0, 2.5 or 5 mm. The bound is a
+    layer cell and a marker."""
     base = ["mesh.size=0.04", "geometry.erodible_thickness=0.01", "mesh.layer_cells=2",
             "mesh.layer_aspect=1", "numerics.tol=3e-5", "numerics.anderson_depth=0",
             "geometry.bed_length=0.9", "time.output_times=[]", "surface_tension.enabled=false",
@@ -95,7 +102,9 @@ def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -
     assert ahead.mover.area() == pytest.approx(ahead.mover.initial_area, rel=1e-12)
     assert ahead.measures.front() == pytest.approx(whole.measures.front(), abs=3e-3)
     a, w = ahead.layer.measures(), whole.layer.measures()
-    assert a["erosion_front_x"] == pytest.approx(w["erosion_front_x"], abs=2e-3)
+    layer_cell = whole.config.geometry.erodible_thickness / whole.config.mesh.layer_cells
+    marker = whole.layer.material.pitch
+    assert abs(a["erosion_front_x"] - w["erosion_front_x"]) < layer_cell + marker
     assert a["layer_displaced_area"] == pytest.approx(w["layer_displaced_area"], rel=0.05)
     assert abs(a["layer_area_drift"]) < 5e-3
     beyond = ahead.layer.material.origins[:, 0] > ahead.mover.end_x
