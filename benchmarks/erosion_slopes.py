@@ -78,6 +78,10 @@ VARIANTS = {
     # the regularising viscosity eta / 100 (column and layer): what the sheared layer's
     # viscous share does to the ratio (benchmarks/erosion_slopes_stress.py)
     "hysteretic-small-eta": [*HYSTERETIC, "material.viscosity=0.01"],
+    # the nonlocal fluidity law with the glass beads' constants of Henann & Kamrin (2013):
+    # mu_s = tan 20.9, b = 0.9377, A = 0.48 (the law's defaults), d = 0.53 mm
+    "nonlocal": ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
+                 "material.grain_diameter=0.00053"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
@@ -217,8 +221,9 @@ def ratio_table(results: dict[str, dict]) -> str:
 def panel(variant: str, shape: str, he: float) -> int:
     """Which panel of the figure draws a row: 0 the constant-friction ingredients on the
     rectangle over 5 mm, 1 Drucker-Prager's thicknesses and columns, 2 the glass beads'
-    mu(I) and the hysteretic friction (-1: Drucker-Prager's 5 mm rectangle is on 0 and 1)."""
-    if variant == "glass-beads" or variant.startswith("hysteretic"):
+    mu(I), the hysteretic friction and the nonlocal law (-1: Drucker-Prager's 5 mm
+    rectangle is on 0 and 1)."""
+    if variant in ("glass-beads", "nonlocal") or variant.startswith("hysteretic"):
         return 2
     if variant == "drucker-prager":
         return -1 if (shape, he) == ("rectangle", 0.005) else 1
@@ -234,8 +239,9 @@ def figure(results: dict[str, dict], path: Path) -> None:
     """Erodible/rigid runout ratio against slope over the experiments' trend (no change
     below the critical slope, up to +40 % near repose): left, each constant-friction
     ingredient on the rectangle over 5 mm; middle, the layer's thickness and the column's
-    shape; right, the glass beads' mu(I) and the hysteretic friction (a variant at one
-    slope, the parameters varied, as a lone marker). Open markers are bounds (``ratio``):
+    shape; right, the glass beads' mu(I), the hysteretic friction and the nonlocal law (a
+    variant at one slope, the parameters varied, as a lone marker). Open markers are bounds
+    (``ratio``):
     down, the rigid front was still moving at t_end; up, the erodible one; a circle, both."""
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.6), sharey=True)
     groups: dict[tuple, list[tuple[float, float, str]]] = {}

@@ -3,7 +3,8 @@ declares its share (``simulation/state_spec.py``) and ``runner.checked_state`` c
 three shares in one place.
 
 Generated from real states (a rigid collapse; an erodible one with a layer of its own
-hysteretic material; the augmented Lagrangian with BDF2; a hysteretic plug flow): every
+hysteretic material; the augmented Lagrangian with BDF2; a hysteretic plug flow; the
+nonlocal fluidity law in a collapse and a plug flow): every
 member is declared (nothing a part saves is dropped), and each member in turn replaced by
 a value of the wrong type names itself in one ``StateError``; arrays of the wrong shape,
 dtype or size and a file name that leaves the fields folder too.
@@ -35,6 +36,9 @@ CASES = {
         "mesh.size=0.05", "time.t_end=0.004", "numerics.method=augmented-lagrangian",
         "time.scheme=bdf2"]),
     "plug-hysteretic": ("plug-flow", ["time.t_end=0.01", "material.friction=hysteretic"]),
+    "nonlocal": ("rectangle-rigid", ["mesh.size=0.05", "time.t_end=0.004",
+                                     "material.rheology=nonlocal"]),
+    "plug-nonlocal": ("plug-flow", ["time.t_end=0.01", "material.rheology=nonlocal"]),
 }
 
 

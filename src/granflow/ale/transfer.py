@@ -244,3 +244,13 @@ def transfer_cells(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
     inside = clamp_inside(old_mesh, points)
     values = np.asarray(old(locate(old_mesh, inside)), dtype=float).reshape(-1, 4)
     new.vec.FV().NumPy()[:] = values.mean(axis=1)
+
+
+def transfer_vertices(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
+    """A continuous P1 field (a nonlocal law's fluidity) onto the new mesh: its values at
+    the new vertices, each found in the old mesh (clamped into it)."""
+    mesh, old_mesh = new.space.mesh, old.space.mesh
+    old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
+    inside = clamp_inside(old_mesh, mesh.ngmesh.Coordinates())
+    new.vec.FV().NumPy()[: mesh.nv] = np.asarray(old(locate(old_mesh, inside)),
+                                                 dtype=float).reshape(-1)

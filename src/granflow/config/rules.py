@@ -103,6 +103,7 @@ def problems(c: Config) -> Iterator[str]:
     yield from _layer_problems(c)
     yield from cost_problems(c)
     yield from _friction_problems(c)
+    yield from _nonlocal_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
@@ -142,17 +143,19 @@ CREEP_MARGIN = 100.0   # mobilisation_shear_rate / eps at least: the creep of (2
                        # eps ratio / sqrt(1 - ratio^2), passes it only within 5e-5 of yield
 
 
-def _hysteretic_materials(c: Config) -> dict[str, Material]:
-    """The run's materials with a hysteretic friction, by section ("material", "layer")."""
-    out: dict[str, Material] = {}
-    if c.material.friction == "hysteretic":
-        out["material"] = c.material
+def _materials(c: Config) -> dict[str, Material]:
+    """The run's materials by section: [material], and the layer's when the run has an
+    erodible layer ([material] with what [layer] sets over it)."""
+    out = {"material": c.material}
     if c.geometry.kind == "column" and c.geometry.erodible_thickness > 0:
         own = {k: v for k, v in c.layer.model_dump().items() if v is not None}
-        layer = c.material.model_copy(update=own)
-        if layer.friction == "hysteretic":
-            out["layer"] = layer
+        out["layer"] = c.material.model_copy(update=own)
     return out
+
+
+def _hysteretic_materials(c: Config) -> dict[str, Material]:
+    """The run's materials with a hysteretic friction, by section ("material", "layer")."""
+    return {k: m for k, m in _materials(c).items() if m.friction == "hysteretic"}
 
 
 def _friction_problems(c: Config) -> Iterator[str]:
@@ -172,6 +175,39 @@ def _friction_problems(c: Config) -> Iterator[str]:
     if materials and c.numerics.method == "augmented-lagrangian":
         yield ("numerics.method = 'augmented-lagrangian' needs a constant friction; use "
                "'regularized' with friction = 'hysteretic'")
+
+
+NONLOCAL_KEYS = ("nonlocal_amplitude", "nonlocal_b", "fluidity_time")
+
+
+def _nonlocal_materials(c: Config) -> dict[str, Material]:
+    """The run's materials that follow the nonlocal law, by section."""
+    return {k: m for k, m in _materials(c).items() if m.rheology == "nonlocal"}
+
+
+def _nonlocal_problems(c: Config) -> Iterator[str]:
+    """The nonlocal law: a positive static friction (its rest state's fluidity is
+    sqrt(2) eps / mu_s), grains denser than the bulk, no hysteretic friction beside it,
+    and both materials nonlocal or neither (one fluidity field across the interface)."""
+    materials = _materials(c)
+    nonlocal_ = _nonlocal_materials(c)
+    if not nonlocal_:
+        return
+    if len(nonlocal_) != len(materials):
+        yield (f"layer.rheology = {materials['layer'].rheology!r} beside material.rheology = "
+               f"{c.material.rheology!r}: a nonlocal material needs the other one nonlocal "
+               "too (one fluidity field crosses the interface); set both or neither")
+    for section, mat in nonlocal_.items():
+        if mat.friction_angle_deg <= 0:
+            yield (f"{section}.friction_angle_deg = {mat.friction_angle_deg!r} must be > 0 with "
+                   "rheology = 'nonlocal' (mu_s > 0 sets the fluidity of material at rest)")
+        if mat.friction == "hysteretic":
+            yield (f"{section}.friction = 'hysteretic' cannot be combined with rheology = "
+                   "'nonlocal': the fluidity already makes layers thinner than h_stop stop; "
+                   "use friction = 'constant'")
+        if mat.grain_density < mat.density:
+            yield (f"{section}.grain_density = {mat.grain_density!r} must be at least the "
+                   f"density {mat.density!r} (their ratio is the packing fraction)")
 
 
 def _axisymmetric_problems(c: Config) -> Iterator[str]:
@@ -211,6 +247,23 @@ def inert_keys(c: Config) -> dict[str, str]:
             + ("" if erodible else " material.grain_diameter"),
             "it is a parameter of mu(I), and material.rheology = 'drucker-prager'"
             + (" (the layer's too)" if erodible else ""))
+    elif c.material.rheology == "nonlocal" and layer_law == "nonlocal":
+        add("material.mu_2_deg material.i0", "it is a parameter of mu(I), and "
+            "material.rheology = 'nonlocal' (whose local law is mu_s + b I)")
+    nonlocal_ = _nonlocal_materials(c)
+    if "material" not in nonlocal_:
+        add(" ".join(f"material.{k}" for k in NONLOCAL_KEYS), "it is a parameter of the "
+            "nonlocal law, and material.rheology is not 'nonlocal'")
+    if erodible and "layer" not in nonlocal_:
+        add(" ".join(f"layer.{k}" for k in NONLOCAL_KEYS), "it is a parameter of the "
+            "nonlocal law, and the layer's (layer.rheology, else material.rheology) is not "
+            "'nonlocal'")
+    if not nonlocal_:
+        add("numerics.fluidity_coupling initial.fluidity boundary.bed_fluidity",
+            "it is a setting of the nonlocal law's fluidity, and no material is 'nonlocal'")
+    elif g.kind == "column":
+        add("initial.fluidity", "a column starts at rest (g = 0); it sets a periodic layer's "
+            "initial fluidity")
     if not erodible:
         add(layer_keys, "it describes the erodible layer's material, and there is none "
             "(geometry.erodible_thickness = 0 or geometry.kind = 'periodic-layer')")
@@ -224,7 +277,7 @@ def inert_keys(c: Config) -> dict[str, str]:
         add("boundary.channel_width boundary.side_wall_friction_deg",
             "the periodic layer is infinitely wide (the plane shear of section 4)")
         add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
-            "boundary.normal_load numerics.eps_friction",
+            "boundary.normal_load numerics.eps_friction boundary.bed_fluidity",
             "the periodic layer has a no-slip bed and no walls")
         add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells mesh.layer_ahead "
             "mesh.layer_aspect "

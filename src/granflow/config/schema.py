@@ -118,7 +118,7 @@ class Material(_Section):
     density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
-    rheology: Literal["drucker-prager", "mu-i"]
+    rheology: Literal["drucker-prager", "mu-i", "nonlocal"]
     gravity: Annotated[float, Field(ge=floor("material.gravity"), le=100)]  # g (m/s^2)
     mu_2_deg: Angle  # mu(I): mu_2 = tan(angle), the friction at large I
     i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
@@ -131,6 +131,9 @@ class Material(_Section):
     rest_time: Duration  # hysteretic: tau_r (s), s -> 0 at rest
     mobilisation_shear_rate: ShearRate  # hysteretic: sheared above this sqrt(2)|Du| (1/s)
     initial_mobilisation: Annotated[float, Field(ge=0, le=1)]  # hysteretic: s at t = 0
+    nonlocal_amplitude: Annotated[float, Field(ge=0, le=100)]  # nonlocal: A (0 = local law)
+    nonlocal_b: Annotated[float, Field(gt=0, le=100)]  # nonlocal: b, mu = mu_s + b I
+    fluidity_time: Literal["inertial"] | Annotated[float, Field(ge=1e-9, le=1e4)]  # t0 (s)
 
     @property
     def mu_s(self) -> float:
@@ -150,7 +153,7 @@ class Layer(_Section):
     density: Annotated[float, Field(ge=1, le=1e5)] | None  # rho of the layer (packing)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)] | None  # eta (Pa s)
     friction_angle_deg: Angle | None  # delta of the layer, mu_s = tan(delta)
-    rheology: Literal["drucker-prager", "mu-i"] | None
+    rheology: Literal["drucker-prager", "mu-i", "nonlocal"] | None
     mu_2_deg: Angle | None  # mu(I) of the layer: mu_2 = tan(angle)
     i0: Annotated[float, Field(gt=0, le=100)] | None
     grain_diameter: Annotated[float, Field(ge=floor("layer.grain_diameter"),
@@ -162,6 +165,9 @@ class Layer(_Section):
     rest_time: Duration | None  # s
     mobilisation_shear_rate: ShearRate | None  # 1/s
     initial_mobilisation: Annotated[float, Field(ge=0, le=1)] | None
+    nonlocal_amplitude: Annotated[float, Field(ge=0, le=100)] | None
+    nonlocal_b: Annotated[float, Field(gt=0, le=100)] | None
+    fluidity_time: Literal["inertial"] | Annotated[float, Field(ge=1e-9, le=1e4)] | None
 
 
 class Geometry(_Section):
@@ -200,6 +206,7 @@ class Boundary(_Section):
     channel_width: Annotated[float, Field(ge=floor("boundary.channel_width"),
                                           le=1e4)] | None  # side walls W; None = none
     side_wall_friction_deg: Angle  # Coulomb mu_w = tan(angle) of the side walls
+    bed_fluidity: Literal["zero-flux", "zero"]  # nonlocal law: g's condition on a Coulomb bed
 
     @property
     def mu_bed(self) -> float:
@@ -213,6 +220,7 @@ class Boundary(_Section):
 class Initial(_Section):
     shear_rate: Annotated[float, Field(ge=0, le=1e4)]  # plug flow: U0 = rate [Z - plug_base]_+
     plug_base: Annotated[float, Field(ge=0, le=1e4)]
+    fluidity: Annotated[float, Field(ge=0, le=10)]  # periodic nonlocal layer: g / g_local
 
 
 class Mesh(_Section):
@@ -246,6 +254,7 @@ class Numerics(_Section):
     anderson_depth: Annotated[int, Field(ge=0, le=10)]  # Anderson mixing of (3.2); 0 = off
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
     al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
+    fluidity_coupling: Literal["lagged", "iterated"]  # nonlocal: g per step or per iterate
 
     @property
     def tol_start(self) -> float:

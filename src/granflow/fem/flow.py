@@ -14,6 +14,7 @@ from granflow.fem.augmented_lagrangian import (
     tensor_space,
 )
 from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.fluidity import FluidityField
 from granflow.fem.forms import (
     FrictionWall,
     SurfaceTraction,
@@ -65,7 +66,8 @@ class FlowSolver:
                  side_walls: SideWallFriction | None = None,
                  augmentation: float | None = None, scheme: str = "implicit-euler",
                  coordinates: Coordinates = PLANE, axis: str = "",
-                 anderson_depth: int = 0) -> None:
+                 anderson_depth: int = 0, fluidity: FluidityField | None = None,
+                 fluidity_coupling: str = "lagged") -> None:
         self.mesh = mesh
         self.initial_guess = initial_guess
         self.linearization = linearization
@@ -120,6 +122,12 @@ class FlowSolver:
             state=self.solution, dual=dual, anderson_depth=anderson_depth)
         self.augmented = (None if augmentation is None else AugmentedLagrangian(
             rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
+        # the granular fluidity of a nonlocal law (fem/fluidity.py), solved with the flow
+        # of each accepted step ("lagged") or of each iterate ("iterated")
+        self.fluidity, self.fluidity_coupling = fluidity, fluidity_coupling
+        if fluidity is not None:
+            u, p = self.solution.components
+            fluidity.bind(u, p, self.mesh_velocity)
 
     @property
     def dt_previous(self) -> float:
@@ -153,6 +161,8 @@ class FlowSolver:
             self.solution.vec.data = self.previous.vec
         if self.augmented is not None:
             return self.augmented.solve(tol, max_iterations, velocity_floor)
+        coupled = self.fluidity is not None and self.fluidity_coupling == "iterated"
+        self.nonlinear.coupled = (lambda: self.fluidity.solve(dt)) if coupled else None
         if self.linearization in ("picard", "primal-dual"):
             return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
         if self.linearization == "newton":
@@ -221,6 +231,10 @@ class FlowSolver:
         if self.initial_guess == "auto" and dt is not None and self.dt_previous > 0:
             self.extrapolation_won = (self._miss(dt, extrapolated=True)
                                       <= self._miss(dt, extrapolated=False))
+        if self.fluidity is not None:
+            if self.fluidity_coupling == "lagged":   # g^{n+1} with the step's flow
+                self.fluidity.solve(self.dt.Get())
+            self.fluidity.accept()
         self.scheme.accept(self.solution, dt)
         self._history_kept = None
         if self.augmented is not None:
@@ -236,6 +250,8 @@ class FlowSolver:
         self.solution.vec.data = self.previous.vec
         if self.augmented is not None:
             self.augmented.restore()
+        if self.fluidity is not None:
+            self.fluidity.reject()
 
     def restart_history(self) -> None:
         """Forget the states before (u^n, p^n) for this step: the forcing jumped, so it is a
@@ -254,6 +270,8 @@ class FlowSolver:
             state["strain"] = self.strain.vec.FV().NumPy().copy()
             state["multiplier"] = self.multiplier.vec.FV().NumPy().copy()
             state["augmentation"] = self.augmentation.Get()
+        if self.fluidity is not None:
+            state["fluidity"] = self.fluidity.previous.vec.FV().NumPy().copy()
         return state
 
     def history_share(self) -> Share:
@@ -262,6 +280,8 @@ class FlowSolver:
         if self.augmented is not None:
             share |= {"strain": array("strain dofs"), "multiplier": array("strain dofs"),
                       "augmentation": may_lack(number(0.0, above=True))}
+        if self.fluidity is not None:     # restore_history says if it is missing
+            share |= {"fluidity": may_lack(array("fluidity dofs"))}
         return share
 
     def restore_history(self, state: dict[str, object]) -> None:
@@ -276,12 +296,19 @@ class FlowSolver:
             if "augmentation" in state:
                 self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
             self.augmented.remember()
+        if self.fluidity is not None:
+            if "fluidity" not in state:
+                raise ValueError("this checkpoint was written without a nonlocal fluidity; "
+                                 "run the case again from the start")
+            self.fluidity.set(state["fluidity"])
 
-    def inherit(self, old: FlowSolver, carry: Carry, carry_tensor: Carry) -> None:
+    def inherit(self, old: FlowSolver, carry: Carry, carry_tensor: Carry,
+                carry_vertices: Carry | None = None) -> None:
         """Continue ``old``'s run on this solver's (new) mesh after a remesh: the time
-        scheme's history, the first iterate, the "auto" guess's choice and the augmented
-        Lagrangian's warm start (d, lambda, r). ``carry(old_field, new_field)`` moves a
-        Taylor-Hood state, ``carry_tensor`` a tensor field (``ale/transfer.py``)."""
+        scheme's history, the first iterate, the "auto" guess's choice, the augmented
+        Lagrangian's warm start (d, lambda, r) and a nonlocal law's fluidity.
+        ``carry(old_field, new_field)`` moves a Taylor-Hood state, ``carry_tensor`` a tensor
+        field, ``carry_vertices`` a continuous P1 field (``ale/transfer.py``)."""
         self.scheme.inherit(old.scheme, carry)
         self.solution.vec.data = self.previous.vec
         self.extrapolation_won = old.extrapolation_won
@@ -290,6 +317,10 @@ class FlowSolver:
             carry_tensor(old.multiplier, self.multiplier)
             self.augmentation.Set(old.augmentation.Get())
             self.augmented.remember()
+        if old.fluidity is not None and self.fluidity is not None:
+            assert carry_vertices is not None
+            carry_vertices(old.fluidity.previous, self.fluidity.previous)
+            self.fluidity.reject()
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:

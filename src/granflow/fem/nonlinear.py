@@ -10,6 +10,7 @@ max(||u||, floor |Omega|^1/2).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import ngsolve as ngs
@@ -152,6 +153,9 @@ class NonlinearSolver:
         self._r, self._delta, self._bar = vec.CreateVector(), vec.CreateVector(), vec.CreateVector()
         self._trial, self._work = vec.CreateVector(), vec.CreateVector()
         self.anderson = Anderson(anderson_depth, self._weighted) if anderson_depth else None
+        # a field solved with each iterate (a nonlocal law's fluidity, fem/fluidity.py):
+        # returns its relative change, which joins the convergence test
+        self.coupled: Callable[[], float] | None = None
 
     def _weighted(self, values: np.ndarray) -> np.ndarray:
         """M v for the velocity L2 inner product of ``velocity_l2`` (numpy in and out)."""
@@ -237,6 +241,8 @@ class NonlinearSolver:
             before = x.FV().NumPy().copy() if anderson is not None and mode == "plain" else None
             x.data = self._trial
             previous, change = change, self._relative(self._l2(self._delta), norm_old)
+            if self.coupled is not None:
+                change = max(change, self.coupled())
             if mode == "seeding":               # a plain iterate: the round starts here
                 mode, used, start_change = "corrected", 0, change
                 self._saved.data = x
@@ -342,6 +348,8 @@ class NonlinearSolver:
             x.data = self._trial
             norm = max(self._l2(x), floor)
             change = self._relative(norm_bar, norm)
+            if self.coupled is not None:
+                change = max(change, self.coupled())
 
             if damping == 1.0 and change < tol:
                 x.data -= self._bar                 # the simplified Newton step, for free

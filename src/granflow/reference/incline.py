@@ -64,12 +64,21 @@ def drucker_prager_profile(*, height: float, slope_deg: float, friction_angle_de
 def bagnold_profile(*, height: float, slope_deg: float, law: MuI, density: float,
                     gravity: float = 9.81, points: int = 2001) -> SteadyProfile:
     """Bagnold's profile of mu(I) without viscosity (the exact solution for eta = 0)."""
+    i_theta = law.inverse_friction(math.tan(math.radians(slope_deg)))
+    return bagnold(height=height, slope_deg=slope_deg, inertial_number=i_theta,
+                   grain_diameter=law.grain_diameter,
+                   packing=density / law.grain_density, gravity=gravity, points=points)
+
+
+def bagnold(*, height: float, slope_deg: float, inertial_number: float,
+            grain_diameter: float, packing: float, gravity: float = 9.81,
+            points: int = 2001) -> SteadyProfile:
+    """Bagnold's profile of any local law whose friction is tan(theta) at ``inertial_number``
+    I_theta: u = (2/3) (I_theta / d) sqrt(phi g cos(theta)) (h^(3/2) - (h - Z)^(3/2))."""
     theta = math.radians(slope_deg)
-    i_theta = law.inverse_friction(math.tan(theta))
-    phi = density / law.grain_density
     z = _grid(height, points)
-    u = (2.0 / 3.0) * (i_theta / law.grain_diameter) * math.sqrt(
-        phi * gravity * math.cos(theta)) * (height**1.5 - (height - z) ** 1.5)
+    u = (2.0 / 3.0) * (inertial_number / grain_diameter) * math.sqrt(
+        packing * gravity * math.cos(theta)) * (height**1.5 - (height - z) ** 1.5)
     return SteadyProfile(z, u)
 
 

@@ -3,8 +3,8 @@ and 5): the builder, registered as the problem kind "column". It assembles the m
 discretisation on it (solver and ALE mover, ``column_discretisation``), the remesher
 (``column_remesher``) and the loop, starts from the column at rest, and adds to the loop the
 parts that declare the outputs as named callbacks: the collapse's measures
-(``column_measures``), an erodible layer (``column_layer``) and a hysteretic friction's
-state (``mobilisation``)."""
+(``column_measures``), an erodible layer (``column_layer``), a hysteretic friction's
+state (``mobilisation``) and a nonlocal law's fluidity (``fluidity``)."""
 
 from __future__ import annotations
 
@@ -35,6 +35,7 @@ from granflow.scenarios.column_discretisation import (
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures
 from granflow.scenarios.column_remesher import ColumnRemesher
+from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import layer_material
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
@@ -159,7 +160,9 @@ def build_column(config: Config) -> ColumnCollapse:
         mobilisation.start()
     # before the runner's outputs: they read the moved layer and the advanced state
     add_callback(simulation, measures, "collapse")
-    for name, part in (("layer", layer), ("mobilisation", mobilisation)):
+    fluidity = FluidityOutputs(current) if current.solver.fluidity is not None else None
+    for name, part in (("layer", layer), ("mobilisation", mobilisation),
+                       ("fluidity", fluidity)):
         if part is not None:
             add_callback(simulation, part, name)
     if config.time.stop_at_rest:

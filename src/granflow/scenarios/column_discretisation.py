@@ -18,6 +18,7 @@ from granflow.ale.remesh import EdgeSize
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.config import Config
 from granflow.fem.flow import Density, FlowSolver
+from granflow.fem.fluidity import FluidityField
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
@@ -29,6 +30,7 @@ from granflow.geometry.scene import build_scene
 from granflow.geometry.stretch import LayerStretch
 from granflow.physics import CoulombFriction, Rheology, gravity_vector
 from granflow.physics.regions import TwoMaterials, blend
+from granflow.scenarios.fluidity import fluidity_field
 from granflow.scenarios.materials import (
     augmentation,
     build_side_walls,
@@ -130,7 +132,14 @@ def discretise(config: Config, mesh: ngs.Mesh,
                                   velocity=gate_speed * ngs.CF(scene.gate.line.direction)))
     st = config.surface_tension
     mobilisation = MobilisationField(mesh) if hysteretic(config) else None
-    rheology, density, fraction = _materials(config, mesh, mobilisation)
+    fraction = (ngs.GridFunction(ngs.L2(mesh, order=0))
+                if layer_material(config) is not None else None)
+    # a plain L2 function is 0 on a boundary element: the walls read the adjacent
+    # triangle's (fem/engine.py: read_on_walls), the volume the function itself
+    share = fraction
+    fluidity = fluidity_field(config, mesh, coords=coordinates(config), fraction=share,
+                              rough=BED if bnd.bed_fluidity == "zero" else "")
+    rheology, density = _materials(config, mobilisation, fluidity, fraction, share)
     solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
@@ -141,7 +150,8 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         augmentation=augmentation(config),
                         scheme=config.time.scheme, coordinates=coordinates(config),
                         axis=WALL if geo.axisymmetric else "",
-                        anderson_depth=num.anderson_depth)
+                        anderson_depth=num.anderson_depth, fluidity=fluidity,
+                        fluidity_coupling=num.fluidity_coupling)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg, st.length) if st.enabled else None)
@@ -162,20 +172,23 @@ def discretise(config: Config, mesh: ngs.Mesh,
     return out
 
 
-def _materials(config: Config, mesh: ngs.Mesh, mobilisation: MobilisationField | None
-               ) -> tuple[Rheology, Density, ngs.GridFunction | None]:
+def _materials(config: Config, mobilisation: MobilisationField | None,
+               fluidity: FluidityField | None, fraction: ngs.GridFunction | None,
+               share: ngs.CoefficientFunction | None) -> tuple[Rheology, Density]:
     """One material: [material]'s law and density. A layer of its own: both blended with
-    the indicator, a piecewise constant share of layer material per triangle (read on the
-    walls from the adjacent triangle, ``fem/engine.py: read_on_walls``: a plain L2 function
-    is 0 on a boundary element, which would give the Coulomb walls' load under the layer
-    the column's law). A hysteretic friction reads the mobilisation field
-    (``fem/mobilisation_field.py``)."""
+    the indicator ``share``, a piecewise constant share of layer material per triangle, read
+    on the walls from the adjacent triangle (``fem/engine.py: read_on_walls``: a plain L2
+    function is 0 on a boundary element, which would give the Coulomb walls' load under the
+    layer the column's law). A
+    hysteretic friction reads the mobilisation field (``fem/mobilisation_field.py``), a
+    nonlocal law the fluidity (``fem/fluidity.py``)."""
     eps = config.numerics.eps
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
+    g = fluidity.current if fluidity is not None else 0.0
     layer = layer_material(config)
-    if layer is None:
-        return friction_law(config.material, eps, *state), config.material.density, None
-    share = ngs.GridFunction(ngs.L2(mesh, order=0))
-    law = TwoMaterials(friction_law(config.material, eps, *state),
-                       friction_law(layer, eps, *state), share, share)
-    return law, blend(config.material.density, layer.density, share), share
+    if layer is None or fraction is None or share is None:
+        return (friction_law(config.material, eps, *state, fluidity=g),
+                config.material.density)
+    law = TwoMaterials(friction_law(config.material, eps, *state, fluidity=g),
+                       friction_law(layer, eps, *state, fluidity=g), share, fraction)
+    return law, blend(config.material.density, layer.density, share)

@@ -18,7 +18,7 @@ import numpy as np
 
 from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.remesh import remesh, shape_quality
-from granflow.ale.transfer import StateTransfer, transfer_tensor
+from granflow.ale.transfer import StateTransfer, transfer_tensor, transfer_vertices
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.geometry.stretch import LayerStretch
@@ -116,7 +116,7 @@ class ColumnRemesher:
         self.unrecorded_change += change
         transfer = StateTransfer(new.solver.space, friction_walls(self.config),
                                  self.config.boundary.penalty, new.solver.coordinates)
-        new.solver.inherit(old.solver, transfer.apply, transfer_tensor)
+        new.solver.inherit(old.solver, transfer.apply, transfer_tensor, transfer_vertices)
         new.mover.inherit(old.mover)
         if added:                         # the free-surface fix conserves the longer layer
             new.mover.initial_area += added

@@ -8,11 +8,13 @@ from granflow.config import Config
 from granflow.config.schema import Material
 from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
 from granflow.physics.hysteresis import Hysteretic, Relaxation
+from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 
 
-def build_rheology(config: Config) -> Rheology:
-    """``material.rheology``: the regularised Drucker-Prager law (2.13) or mu(I)."""
-    return material_law(config.material, config.numerics.eps)
+def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
+    """``material.rheology``: the regularised Drucker-Prager law (2.13), mu(I) or the
+    nonlocal fluidity law (reading the field ``fluidity``)."""
+    return material_law(config.material, config.numerics.eps, fluidity)
 
 
 def hysteretic(config: Config) -> bool:
@@ -30,11 +32,13 @@ def relaxation(mat: Material) -> Relaxation:
 
 
 def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
-                 per_triangle: Any = None) -> Rheology:
+                 per_triangle: Any = None, fluidity: Any = 0.0) -> Rheology:
     """The law of one material with its friction: ``material_law``, or with a hysteretic
     friction that law as mu_flow beside Drucker-Prager at mu_start, blended with the
-    mobilisation s (``mobilisation``: its field; ``per_triangle``: its cell values)."""
-    flow = material_law(mat, eps)
+    mobilisation s (``mobilisation``: its field; ``per_triangle``: its cell values). A
+    nonlocal law reads the fluidity field ``fluidity`` (it has no hysteretic friction:
+    config/rules.py)."""
+    flow = material_law(mat, eps, fluidity)
     if mat.friction != "hysteretic":
         return flow
     start = DruckerPrager(viscosity=mat.viscosity,
@@ -44,14 +48,36 @@ def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
                       initial=mat.initial_mobilisation)
 
 
-def material_law(mat: Material, eps: float) -> Rheology:
-    """The law of one material: (2.13), or mu(I) with its parameters."""
+def material_law(mat: Material, eps: float, fluidity: Any = 0.0) -> Rheology:
+    """The law of one material: (2.13), mu(I) or the nonlocal fluidity law, with its
+    parameters."""
+    if mat.rheology == "nonlocal":
+        return nonlocal_law(mat, eps, fluidity)
     if mat.rheology == "mu-i":
         return MuI(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
                    mu_2_deg=mat.mu_2_deg, i0=mat.i0, grain_diameter=mat.grain_diameter,
                    grain_density=mat.grain_density, eps=eps)
     return DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
                          eps=eps)
+
+
+def nonlocal_law(mat: Material, eps: float, fluidity: Any = 0.0) -> NonlocalFluidity:
+    """The nonlocal fluidity law of a material (``physics/nonlocal_fluidity.py``)."""
+    return NonlocalFluidity(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
+                            b=mat.nonlocal_b, amplitude=mat.nonlocal_amplitude,
+                            grain_diameter=mat.grain_diameter,
+                            grain_density=mat.grain_density, eps=eps,
+                            time=mat.fluidity_time, fluidity=fluidity,
+                            friction_cap_deg=mat.mu_2_deg)
+
+
+def nonlocal_materials(config: Config) -> tuple[Material, ...]:
+    """The run's materials when they follow the nonlocal law ([material], and [layer]'s
+    when it is a material of its own), else (): the rules allow both or neither."""
+    if config.material.rheology != "nonlocal":
+        return ()
+    layer = layer_material(config)
+    return (config.material,) if layer is None else (config.material, layer)
 
 
 def layer_material(config: Config) -> Material | None:

@@ -14,14 +14,18 @@ import numpy as np
 from granflow.ale.mesh_motion import AleMover, VerticalMeshVelocity
 from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
+from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
 from granflow.fem.mobilisation_field import MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import MuI, gravity_vector
+from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
+from granflow.reference.nonlocal_incline import steady_nonlocal_flow
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
-from granflow.scenarios.materials import augmentation, build_rheology, friction_law
+from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
+from granflow.scenarios.materials import augmentation, build_rheology, friction_law, nonlocal_law
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
@@ -56,6 +60,8 @@ class PlugFlow:
         With a hysteretic friction the steady profile is the flowing law's (a layer that
         keeps flowing tends to it: mobilised, mu = mu_flow), the 1D solver none."""
         mat, slope = self.config.material, self.config.geometry.slope_deg
+        if mat.rheology == "nonlocal":
+            return self._nonlocal_note()
         if mat.friction == "hysteretic" and not self.steep:
             return ("no reference: the 1D solver of (4.1) has a constant friction, and "
                     f"geometry.slope_deg = {slope:g} <= material.friction_angle_deg = "
@@ -69,6 +75,23 @@ class PlugFlow:
         if slope >= mat.mu_2_deg:
             return (f"no reference: geometry.slope_deg = {slope:g} >= material.mu_2_deg = "
                     f"{mat.mu_2_deg:g}, the mu(I) layer keeps accelerating")
+        return None
+
+    def _nonlocal_note(self) -> str | None:
+        """A nonlocal layer has its steady flow (reference/nonlocal_incline.py) when it is
+        thicker than its stopping height, and comes to rest otherwise."""
+        c = self.config
+        law = nonlocal_law(c.material, c.numerics.eps)
+        h_stop = law.stopping_height(c.geometry.slope_deg)
+        if law.amplitude > 0 and c.geometry.height <= h_stop:
+            return (f"no reference: the nonlocal layer of geometry.height = "
+                    f"{c.geometry.height:g} m is not thicker than its stopping height "
+                    f"{h_stop:.4g} m at geometry.slope_deg = {c.geometry.slope_deg:g}: it "
+                    "comes to rest")
+        if not self.steep:
+            return (f"no reference: geometry.slope_deg = {c.geometry.slope_deg:g} <= "
+                    f"material.friction_angle_deg = {c.material.friction_angle_deg:g}: the "
+                    "nonlocal layer comes to rest")
         return None
 
     @property
@@ -102,6 +125,9 @@ class PlugFlow:
         c, mat = self.config, self.config.material
         common = {"height": c.geometry.height, "slope_deg": c.geometry.slope_deg,
                   "density": mat.density, "gravity": mat.gravity}
+        if mat.rheology == "nonlocal":
+            return steady_nonlocal_flow(law=nonlocal_law(mat, c.numerics.eps),
+                                        **common).profile
         if mat.rheology == "mu-i":
             law = build_rheology(c)
             assert isinstance(law, MuI)
@@ -151,6 +177,20 @@ class PlugFlow:
         return z, u, ref(z) if ref is not None else np.full(len(z), np.nan)
 
 
+def initial_fluidity(law: NonlocalFluidity, config: Config) -> ngs.CoefficientFunction:
+    """g at t = 0: initial.fluidity times the local law's fluidity at the stress ratio
+    tan(slope) of the layer at rest (hydrostatic p; 0 where tan(slope) <= mu_s)."""
+    geo, mat = config.geometry, config.material
+    force = gravity_vector(mat.gravity, geo.slope_deg)
+    pressure = -mat.density * force[1] * (geo.height - ngs.y)
+    mu = math.tan(math.radians(geo.slope_deg))
+    if mu <= law.mu_s:
+        return ngs.CF(0.0)
+    local = (law.root_pressure(pressure, NGSOLVE_OPS) * (mu - law.mu_s)
+             / (law.b * mu * law.grain_diameter))
+    return config.initial.fluidity * local
+
+
 def plug_flow_figure(run_dir: Any, config: Config) -> None:
     """The velocity profile against its reference (``io/plots.py``)."""
     from granflow.io.plots import plot_plug_flow
@@ -192,7 +232,10 @@ def build_plug_flow(config: Config) -> PlugFlow:
     force = gravity_vector(mat.gravity, geo.slope_deg)
     mobilisation = MobilisationField(mesh) if mat.friction == "hysteretic" else None
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    solver = FlowSolver(mesh, rheology=friction_law(mat, config.numerics.eps, *state),
+    fluidity = fluidity_field(config, mesh, periodic=True, rough=BED)  # the bed is rough
+    law = friction_law(mat, config.numerics.eps, *state,
+                       fluidity=fluidity.current if fluidity is not None else 0.0)
+    solver = FlowSolver(mesh, rheology=law,
                         density=mat.density,
                         body_force=force, periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
@@ -200,7 +243,12 @@ def build_plug_flow(config: Config) -> PlugFlow:
                         initial_guess=config.numerics.initial_guess,
                         augmentation=augmentation(config),
                         scheme=config.time.scheme,
-                        anderson_depth=config.numerics.anderson_depth)
+                        anderson_depth=config.numerics.anderson_depth,
+                        fluidity=fluidity,
+                        fluidity_coupling=config.numerics.fluidity_coupling)
+    if fluidity is not None:
+        assert isinstance(law, NonlocalFluidity)
+        fluidity.set(initial_fluidity(law, config))
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
@@ -221,6 +269,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation,
                        mobilisation=mobilisation)
     add_callback(simulation, PlugFlowOutputs(problem), "plug_flow")
+    if fluidity is not None:
+        add_callback(simulation, FluidityOutputs(problem), "fluidity")
     if mobilisation is not None:
         problem.tracking = MobilisationTracking(config, problem, simulation)
         problem.tracking.start()

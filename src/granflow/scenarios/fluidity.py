@@ -1,0 +1,76 @@
+"""The granular fluidity of a nonlocal law (``physics/nonlocal_fluidity.py``) in a problem:
+the field on the problem's mesh with its boundary conditions (``fem/fluidity.py``), and its
+outputs. The field lives in the flow solver (``FlowSolver.fluidity``), which solves it with
+the flow, carries it through a remesh and keeps it in the checkpoint's flow history.
+
+Boundary conditions: g = 0 on a rough no-slip base (the periodic layer's bed); zero flux at
+the free surface and the walls; on a column's Coulomb bed ``boundary.bed_fluidity`` chooses
+(zero flux by default: the material slides and shears there, docs/model.md). With A = 0 the
+equation has no derivative in space and takes no condition.
+
+Its outputs (``simulation/outputs.py``): the diagnostics columns ``fluidity_max`` and
+``fluidity_mean`` (over the mass, area- or in r-z volume-weighted, 1/s) and the cell data
+``fluidity`` of the VTU snapshots (the mean of g over each triangle).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import ngsolve as ngs
+import numpy as np
+
+from granflow.config import Config
+from granflow.fem.flow import FlowSolver
+from granflow.fem.fluidity import FluidityField
+from granflow.fem.linalg import direct_solver
+from granflow.fem.measure import PLANE, Coordinates
+from granflow.scenarios.materials import nonlocal_law, nonlocal_materials
+from granflow.simulation.outputs import Outputs
+from granflow.simulation.simulation import Simulation
+
+
+def fluidity_field(config: Config, mesh: ngs.Mesh, *, coords: Coordinates = PLANE,
+                   periodic: bool = False, rough: str = "",
+                   fraction: Any = None) -> FluidityField | None:
+    """The fluidity of the run's nonlocal materials on ``mesh`` (None without them); g = 0
+    on the boundaries ``rough`` (a "|"-joined list of labels) when A > 0."""
+    materials = nonlocal_materials(config)
+    if not materials:
+        return None
+    laws = tuple(nonlocal_law(mat, config.numerics.eps) for mat in materials)
+    dirichlet = rough if any(law.amplitude > 0 for law in laws) else ""
+    return FluidityField(mesh, laws=laws, fraction=fraction, coords=coords,
+                         periodic=periodic, dirichlet=dirichlet,
+                         solver=direct_solver(config.numerics.linear_solver))
+
+
+class Host(Protocol):
+    """Where the current flow solver lives (a collapse's remesh replaces it)."""
+
+    solver: FlowSolver
+
+
+@dataclass
+class FluidityOutputs(Outputs):
+    """The fluidity's columns and cell data (module docstring)."""
+
+    columns = ("fluidity_max", "fluidity_mean")
+
+    current: Host
+
+    @property
+    def field(self) -> FluidityField:
+        field = self.current.solver.fluidity
+        assert field is not None
+        return field
+
+    def diagnostics(self, sim: Simulation, cell_speed: np.ndarray) -> dict[str, float]:
+        solver, field = self.current.solver, self.field
+        mean = solver.coordinates.integrate(field.previous, solver.mesh) / solver.volume()
+        return {"fluidity_max": float(np.max(field.vertex_values(), initial=0.0)),
+                "fluidity_mean": float(mean)}
+
+    def fields(self) -> dict[str, np.ndarray]:
+        return {"fluidity": self.field.cell_means()}
