@@ -27,6 +27,7 @@ from hypothesis import strategies as st
 import granflow.runner as runner
 from granflow.cli import main
 from granflow.config import MAX_TRIANGLES, SECTIONS, load_config
+from granflow.config.schema import FLOORS
 
 SCENARIOS = ["plug-flow", "trapezoid-rigid", "rectangle-rigid", "trapezoid-erodible"]
 WORD = st.text(alphabet="abcdefghijklmnopqrstuvwxyz_-", min_size=1, max_size=12)
@@ -259,15 +260,47 @@ DEEP = "a = " + "[" * 5000 + "]" * 5000 + "\n"
     (["sweep", "case.toml"], 'base = "rectangle-rigid"\n[vary]\n"mesh.size" = ['
      + ", ".join(["0.05"] * 101) + ']\n"geometry.height" = [' + ", ".join(["0.1"] * 101)
      + "]\n"),
+    (["run", "cylinder-rigid", "--set", "gate.enabled=true"], None),
 ], ids=["scenario-list", "scenario-table", "deep-arrays", "deep-value", "deep-sweep",
         "dev-zero", "dev-urandom", "sweep-dev-zero", "tiny-mesh", "tiny-plug-mesh",
         "tiny-layer", "tiny-viscosity", "tiny-dt", "tiny-dt-max", "tiny-tol", "huge-mesh",
         "verify-out-file", "verify-scheduler", "front-angle-5e-324", "5000-digits",
         "5000-digits-file", "tol-1e-14", "t-end-10000-no-rest", "width-1000", "mesh-0.0012",
-        "more-outputs-than-steps", "run-out-empty", "verify-out-empty", "sweep-10201-runs"])
+        "more-outputs-than-steps", "run-out-empty", "verify-out-empty", "sweep-10201-runs",
+         "gate-on-a-cylinder"])
 def test_the_last_bad_inputs_exit_2_with_one_line(args: list[str], toml: str | None) -> None:
     """Each once ended in a traceback, a hang or hours of computing."""
     check_refused(args, toml)
+
+
+def _field_bounds(section: str, key: str) -> tuple[Any, dict[str, float]]:
+    field = SECTIONS[section].model_fields[key]
+    return _bounds(field.annotation, list(field.metadata))
+
+
+POSITIVE = [(s, k) for s, k in FIELDS if _field_bounds(s, k)[0] is float and (
+    "gt" in _field_bounds(s, k)[1] or _field_bounds(s, k)[1].get("ge", 0.0) > 0)]
+WHERE_EFFECTIVE = {"layer": ["trapezoid-erodible"], "gate": ["trapezoid-rigid", "--set",
+                                                             "gate.enabled=true"],
+                   "surface_tension": ["trapezoid-rigid", "--set",
+                                       "surface_tension.enabled=true"]}
+
+
+@pytest.mark.parametrize("value", ["5e-324", "1e-310"])
+@pytest.mark.parametrize("section, key", POSITIVE, ids=[f"{s}.{k}" for s, k in POSITIVE])
+def test_a_subnormal_value_is_refused_by_the_keys_own_bound(section: str, key: str,
+                                                           value: str) -> None:
+    """Keys whose natural bound is 0 have a physical smallest value (``FLOORS``, shown in
+    docs/parameters.md): 11 of them took 5e-324 and failed mid-run."""
+    where = WHERE_EFFECTIVE.get(section, ["plug-flow" if key == "length" else
+                                          "trapezoid-rigid"])
+    check_refused(["run", *where, "--set", f"{section}.{key}={value}"])
+
+
+def test_each_floor_is_the_bound_of_its_key() -> None:
+    for name, floor in FLOORS.items():
+        assert _field_bounds(*name.split("."))[1]["ge"] == floor.value, name
+        assert floor.why in (Path(__file__).parents[1] / "docs" / "parameters.md").read_text()
 
 
 LONG = "n" * 300

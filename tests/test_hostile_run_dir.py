@@ -30,7 +30,7 @@ import granflow.runner as runner
 from granflow.cli import main
 from granflow.config import ConfigError
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, write_checkpoint
-from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.run_dir import SUMMARY_LIST_LIMIT, RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 
 COARSE = {"geometry.width": 0.1, "geometry.height": 0.1, "mesh.size": 0.025,
@@ -253,7 +253,7 @@ def checkpoint_bomb(path: Path) -> None:
 
 
 @pytest.mark.parametrize("edit, why", [
-    (checkpoint_bomb, "declares"),
+    (checkpoint_bomb, "declare"),
     (lambda p: p.write_bytes(p.read_bytes()[:len(p.read_bytes()) // 2]),
      "not a readable NumPy archive")], ids=["bomb", "cut"])
 def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: str,
@@ -265,6 +265,164 @@ def test_a_bad_checkpoint_is_one_line_before_anything_runs(hostile, edit, why: s
     code, lines = cli("resume", root, "--quiet")
     assert code == 2 and len(lines) == 1 and why in lines[0], lines
     assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
+
+
+def state_member(path: str, value: object) -> Callable[[Path], None]:
+    """An edit of the checkpoint: its state's member at ``path`` (dotted) set to ``value``."""
+    def edit(checkpoint: Path) -> None:
+        with np.load(checkpoint, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        tree = json.loads(arrays["__state__"].tobytes())
+        *parents, last = path.split(".")
+        node = tree
+        for key in parents:
+            node = node[key]
+        node[last] = value
+        arrays["__state__"] = np.frombuffer(json.dumps(tree).encode(), dtype=np.uint8)
+        buffer = io.BytesIO()
+        np.savez(buffer, **arrays)
+        checkpoint.write_bytes(buffer.getvalue())
+    return edit
+
+
+@pytest.mark.parametrize("path, value", [
+    ("scenario.mover.initial_area", "x"), ("scenario.history", "abc"),
+    ("scenario.history.t", "abc"), ("scenario.remeshes", "x"), ("loop.t", "abc"),
+    ("outputs.vtk_entries", [[0.0, "../../outside.txt"]])])
+def test_a_tampered_state_member_is_one_line_before_anything_runs(hostile, path: str,
+                                                                 value: object) -> None:
+    """Each of the first four ended in a traceback once the run had started."""
+    root = hostile(CHECKPOINT_FILE, state_member(path, value))
+    before = (root / "diagnostics.csv").read_bytes()
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and f"{path}" in lines[0], lines
+    assert (root / "diagnostics.csv").read_bytes() == before      # nothing was written
+    assert outside_untouched(root)
+
+
+def unnamed_bombs(checkpoint: Path) -> None:
+    """Two members nothing in the state names, each 64 MB of deflated zeros (the limit is
+    lowered to 16 MB below: as 2 x 512 MiB against the real one)."""
+    with zipfile.ZipFile(checkpoint, "a", zipfile.ZIP_DEFLATED) as archive:
+        for name in ("extra1.npy", "extra2.npy"):
+            with archive.open(name, "w", force_zip64=True) as member:
+                member.write(np.lib.format.magic(1, 0))
+                for _ in range(64):
+                    member.write(b"\0" * 2**20)
+
+
+def test_members_the_state_does_not_name_are_never_read(hostile, monkeypatch:
+                                                         pytest.MonkeyPatch) -> None:
+    import granflow.io.untrusted as untrusted
+
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+    read: list[str] = []
+    member = untrusted._read_member
+    monkeypatch.setattr(untrusted, "_read_member", lambda archive, info, path: (
+        read.append(info.filename), member(archive, info, path))[1])
+    root = hostile(CHECKPOINT_FILE, unnamed_bombs)
+    assert (root / CHECKPOINT_FILE).stat().st_size < 2**21
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 0 and lines == [], lines
+    assert read and not {"extra1.npy", "extra2.npy"} & set(read)
+
+
+def test_the_members_a_state_names_are_capped_together(hostile, monkeypatch:
+                                                        pytest.MonkeyPatch) -> None:
+    """Two fields of 10 MB each, each within the per-member limit, together over it."""
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+
+    def grow(checkpoint: Path) -> None:
+        with np.load(checkpoint, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        tree = json.loads(arrays["__state__"].tobytes())
+        fields = tree["scenario"]["fields"]
+        for name in ("previous", "before_previous"):
+            arrays[fields[name]["__array__"]] = np.zeros(10 * 2**17)
+        buffer = io.BytesIO()
+        np.savez_compressed(buffer, **arrays)
+        checkpoint.write_bytes(buffer.getvalue())
+
+    root = hostile(CHECKPOINT_FILE, grow)
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and "together (at most 16 MB)" in lines[0], lines
+
+
+PLANTED = ["plots/holiday.png", "profiles/my_final.csv", "fields/fields_99999.vtu",
+           "frames/frame_99999.npz", "notes.txt"]
+
+
+def test_force_keeps_the_users_files_named_as_the_runs(hostile) -> None:
+    """--force deletes what the run's manifest lists: a user's files, even named as a run
+    names its own, stay; the old run's files are gone (none of its 3 VTUs is left)."""
+    root = hostile("notes.txt", lambda p: p.write_text("mine\n"))
+    for name in PLANTED:
+        (root / name).write_text("mine\n")
+    overrides = [f"--set={key}={value}" for key, value in (COARSE | {"time.t_end": 0.005,
+                                                                     "time.output_times": []
+                                                                     }).items()]
+    code, lines = cli("run", "rectangle-rigid", *overrides, "--out", root, "--force", "--quiet")
+    assert code == 0 and lines == [], lines
+    assert all((root / name).read_text() == "mine\n" for name in PLANTED)
+    assert sorted(p.name for p in (root / "fields").glob("fields_0*.vtu")) == [
+        "fields_00000.vtu", "fields_00001.vtu"]               # the new run's only
+    assert not list((root / "profiles").glob("*_t0.0[12]0.csv"))   # the old output times'
+
+
+@pytest.mark.parametrize("count", [10**6, 500])
+def test_a_summary_of_many_events_is_bounded_and_so_is_its_figure(
+        hostile, count: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """10^6 remesh times drew one line each, for minutes and with no word: a list longer
+    than the summary allows is left out (as a member of the wrong type); 500 are counted in
+    the figure's legend, not drawn."""
+    from matplotlib.axes import Axes
+
+    def edit(path: Path) -> None:
+        summary = json.loads(path.read_text())
+        path.write_text(json.dumps(summary | {"remesh_times_s": [1e-6 * i
+                                                                 for i in range(count)]}))
+
+    root = hostile("summary.json", edit)
+    marks: list[float] = []
+    axvline = Axes.axvline
+    monkeypatch.setattr(Axes, "axvline", lambda self, x=0, *a, **k: (
+        marks.append(x), axvline(self, x, *a, **k))[1])
+    code, lines = cli("plot", root)
+    assert code == 0 and lines == [], lines
+    assert ("remesh_times_s" in RunDir.summary(root)) == (count <= SUMMARY_LIST_LIMIT)
+    assert len(marks) < 10 and (root / "plots" / "front_and_energy.png").is_file()
+
+
+WIDE = ",".join(f"c{i}" for i in range(10**5)) + "\n"
+
+
+@pytest.mark.parametrize("command", ["plot", "resume"])
+def test_an_error_line_stays_short(hostile, command: str) -> None:
+    """A diagnostics file 100k columns wide put them all in its one error line."""
+    root = hostile("diagnostics.csv", lambda p: p.write_text(WIDE + ",".join(["x"] * 10**5)))
+    code, lines = cli(command, root, *(["--quiet"] if command == "resume" else []))
+    assert code == 2 and len(lines) == 1 and len(lines[0]) < 500, lines
+
+
+def test_a_column_of_mixed_types_is_one_line_and_no_warning(hostile, recwarn) -> None:
+    """A word among 400k numbers: pandas warned (DtypeWarning) before granflow's line."""
+    rows = [f"{i * 1e-6},1" for i in range(2 * 10**5)]
+    root = hostile("diagnostics.csv", lambda p: p.write_text(
+        "\n".join(["t,dt", *rows, "x,1", *rows]) + "\n"))
+    code, lines = cli("plot", root)
+    assert code == 2 and len(lines) == 1 and "column 't' is not numbers" in lines[0], lines
+    assert not [w for w in recwarn if "DtypeWarning" in w.category.__name__]
+
+
+def test_a_snapshot_error_stays_short(hostile) -> None:
+    """An index of 100k snapshots put their 100k times in one error."""
+    rows = "".join(f'<DataSet timestep="{i}" file="fields_00000.vtu"/>' for i in range(10**5))
+    root = hostile("fields/fields.pvd", lambda p: p.write_text(
+        f'<?xml version="1.0"?><VTKFile type="Collection"><Collection>{rows}'
+        "</Collection></VTKFile>"))
+    with pytest.raises(ValueError, match="no snapshot at t = 0.5 s") as err:
+        granflow.load(root).fields(0.5)
+    assert len(str(err.value)) < 300
 
 
 def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -108,3 +108,23 @@ def test_the_built_in_study_loads_and_a_bad_sweep_file_is_one_line(tmp_path: Pat
     assert "unknown configuration key 'mesh.sise'" in done.stderr
     with pytest.raises(Exception, match="not found"):
         load_sweep(str(tmp_path / "missing.toml"))
+
+
+def test_a_dashboard_address_is_given_only_where_one_exists(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without bokeh where the scheduler runs, Dask serves a page asking for it: no address
+    is printed then (an external scheduler's, asked; a local cluster's, known here)."""
+    from distributed import LocalCluster
+
+    import granflow.sweep as sweep
+
+    def scheduler(dashboard: str | None) -> LocalCluster:
+        return LocalCluster(n_workers=0, processes=False, protocol="tcp://",
+                            dashboard_address=dashboard)
+
+    with scheduler(":0") as local, sweep.Cluster(local.scheduler_address, 1) as cluster:
+        assert bool(cluster.dashboard) == sweep._has_bokeh()
+        monkeypatch.setattr(sweep, "_has_bokeh", lambda: True)
+        assert cluster.dashboard.startswith("http://")
+        monkeypatch.setattr(sweep, "_has_bokeh", lambda: False)
+        assert cluster.dashboard == ""

@@ -24,7 +24,7 @@ REFUSED = [   # scenario, key, value, what the reason says
     ("trapezoid-rigid", "boundary.side_wall_friction_deg", 20.0, "channel_width = none"),
     ("rectangle-rigid", "geometry.front_angle_deg", 45.0, "vertical front"),
     ("trapezoid-rigid", "layer.density", 1400.0, "erodible layer's material"),
-    ("trapezoid-rigid", "numerics.eps", -1.0, "must be a number in (0, 1000]"),
+    ("trapezoid-rigid", "numerics.eps", -1.0, "must be a number in [1e-12, 1000]"),
     ("trapezoid-rigid", "mesh.size", 1e-6, "triangles"),
     ("trapezoid-rigid", "time.dt_init", 1.0, "must not exceed time.dt_max"),
     ("trapezoid-rigid", "time.output_times", [0.5, 0.1], "must be increasing"),

@@ -297,8 +297,9 @@ def _sweep(args: argparse.Namespace) -> int:
     prepare_folder(out, "the sweep")
     with Cluster(args.scheduler, args.workers) as cluster:
         where = args.scheduler or f"a LocalCluster of {args.workers} worker processes"
-        print(f"granflow: sweep {sweep.name}: {len(sweep.runs())} runs on {where}; "
-              f"dashboard {cluster.dashboard or 'not available'} -> {out}")
+        board = f"; dashboard {cluster.dashboard}" if cluster.dashboard else ""
+        print(f"granflow: sweep {sweep.name}: {len(sweep.runs())} runs on {where}{board} "
+              f"-> {out}")
         result = run_sweep(sweep, out, cluster.client, progress=not args.quiet)
     print(f"sweep {sweep.name}: {len(result.rows)} runs ({result.skipped} skipped), "
           f"{len(result.failed)} failed, wall time {result.wall_time_s:.1f} s -> "

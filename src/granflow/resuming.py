@@ -5,7 +5,8 @@ Only keys that leave the checkpointed state a state of the same problem may chan
 end time and later output times, the outputs, the stop at rest, and the step and solver
 controls (``RESUMABLE``); the others (geometry, material, mesh, the model's numerics) are
 refused with one line naming the key. Everything is checked before the run directory is
-touched: the checkpoint is read and restored into a freshly built problem first, so a
+touched: the checkpoint is read, every member of its state checked against what its part
+declares (``runner.checked_state``) and restored into a freshly built problem first, so a
 checkpoint that does not fit its configuration is a ``CheckpointError``, not a failed run.
 The temporary files a killed run left are removed.
 Extending keeps the step policy where it was (only its end and stops change); changing a
@@ -19,9 +20,11 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import Config, ConfigError, config_to_toml, load_config
+from granflow.config.messages import fmt_value
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, read_checkpoint
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
+from granflow.simulation.state_spec import StateError
 
 FINISHED = ("completed", "stopped")
 # keys whose change the step policy must follow (it is then rebuilt from the configuration)
@@ -40,7 +43,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                log: Callable[[str], None] | None,
                check_solver: Callable[[Config], None]) -> Path:
     """Continue the run in ``path`` (module docstring); returns its folder."""
-    from granflow.runner import build_problem, run_simulation
+    from granflow.runner import build_problem, checked_state, run_simulation
 
     root = Path(path)
     if not RunDir.is_run_dir(root):
@@ -55,12 +58,17 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
         run_dir.check_layout()
         status = RunDir.status(root)
         state = _checkpoint(root, status, saved)
-        _check_times(root, status, saved, config, state)
-        _adapt(state, config, changed)
         try:
             problem = build_problem(config)
         except Exception:   # reported by run_simulation as for a new run: a failed run
             problem = None
+        try:                # every member, before any is read
+            state = checked_state(state, problem)
+        except StateError as err:
+            raise CheckpointError(f"the checkpoint of '{root}' was not written by granflow "
+                                  f"or was changed since: {err}") from None
+        _check_times(root, status, saved, config, state)
+        _adapt(state, config, changed)
         if problem is not None:
             _fit_stop_criteria(state, len(problem.simulation.stop_criteria))
             try:
@@ -71,6 +79,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                                       f"configuration: {type(exc).__name__}: "
                                       f"{str(exc)[:300]}") from None
         run_dir.remove_temporary_files()        # left by a killed run
+        run_dir.adopt_layout()                  # a run of an earlier granflow: its files
         if changed:
             run_dir.write_text("config.toml", config_to_toml(config))
         if log is not None:
@@ -138,7 +147,8 @@ def _check_times(root: Path, status: str | None, saved: Config, config: Config,
     if now != done:
         raise ConfigError(
             f"time.output_times may only add times after the run's time t = {t:.6g} s "
-            f"(the earlier ones, {done or 'none'}, are written and stay as they are)")
+            f"(the earlier ones, {fmt_value(done) if done else 'none'}, are written and stay "
+            "as they are)")
 
 
 def _adapt(state: SimulationState, config: Config, changed: list[str]) -> None:

@@ -47,11 +47,27 @@ from granflow.simulation.callbacks import (
     add_callback,
 )
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.state_spec import (
+    TIME,
+    Dims,
+    Share,
+    check_share,
+    list_of,
+    may_lack,
+    number,
+    or_none,
+)
 
 __all__ = ["ANIMATION_INTERVAL_S", "DIAGNOSTIC_COLUMNS", "Problem", "build_problem",
            "run_simulation"]
 
 EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME_times_s)
+# the outputs' share of a checkpoint (``_Run.checkpoint``): the runner's and its files'
+OUTPUTS_SHARE: Share = {
+    "volume0": may_lack(or_none(number(0.0, above=True))),
+    **{f"{name}_times": may_lack(list_of(TIME)) for name in EVENTS},
+    "pending_times": may_lack(list_of(TIME)), "animation_next": may_lack(or_none(TIME)),
+    **DiagnosticsLog.share, **FieldSnapshots.share, **AnimationFrames.share}
 
 
 def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = False) -> None:
@@ -61,21 +77,27 @@ def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = Fa
         profiles.write_profile(run_dir, kind, t, columns, rows, final=final)
 
 
-def restored_problem(config: Config, state: SimulationState) -> Problem:
-    """The problem of ``config`` in the checkpointed ``state`` (raises if the state does
-    not fit the problem: the caller reports it before the run directory is touched)."""
-    problem = build_problem(config)
-    problem.restore_state(state.scenario)
-    problem.simulation.restore_state(state.loop)
-    return problem
+def checked_state(state: SimulationState, problem: Problem | None) -> SimulationState:
+    """``state`` with every member of its three shares checked against what its parts
+    declare (``simulation/state_spec.py``) and only those kept: the one check of a
+    checkpoint's content before any part reads it; ``StateError`` (one line) names the
+    first member that is not what its part declared. Without a problem (its build failed:
+    the run fails, nothing reads the problem's share) that share is left as it is."""
+    dims: Dims = {}
+    loop = check_share(state.loop, Simulation.share, "loop", dims)
+    scenario = (state.scenario if problem is None else
+                check_share(state.scenario, problem.share(), "scenario", dims))
+    outputs = check_share(state.outputs, OUTPUTS_SHARE, "outputs", dims)
+    return SimulationState(loop=loop, scenario=scenario, outputs=outputs,
+                           version=state.version)
 
 
 def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
                    resume: SimulationState | None = None,
                    problem: Problem | None = None) -> dict[str, Any]:
     """Run ``config`` into ``run_dir`` (or continue ``resume``, a checkpointed state of it,
-    restored into ``problem`` if the caller did so already: ``restored_problem``); return
-    the summary, also written as summary.json.
+    checked and restored into ``problem`` if the caller did so already, as
+    ``resuming.resume_run`` does); return the summary, also written as summary.json.
 
     The caller holds the folder's lock (``run_dir.lock()``) for the whole run: it is taken
     once, by whoever creates or reopens the folder (``granflow.run``, ``granflow resume``, a
@@ -88,15 +110,19 @@ def run_simulation(config: Config, run_dir: RunDir, progress: bool = True,
         raise RunDirError(f"run directory '{run_dir.root}' must be locked by its writer "
                           "(with run_dir.lock(): ...) before a run starts")
     started = "resumed" if resume else "started"
-    for stale in [*run_dir.path(profiles.FOLDER).glob(f"*_{profiles.FINAL}.csv"),
-                  run_dir.path(f"{profiles.FOLDER}/final_error.txt")]:
-        stale.unlink(missing_ok=True)   # of an earlier session
+    for stale in [*run_dir.written(f"{profiles.FOLDER}/*_{profiles.FINAL}.csv"),
+                  *run_dir.written(f"{profiles.FOLDER}/final_error.txt")]:
+        if not stale.is_dir():
+            stale.unlink(missing_ok=True)   # of an earlier session
     run_dir.write_json("summary.json", _summary_head(
         config, "running", f"{started} at t = {resume.t if resume else 0.0:.6g} s"))
     try:
         if problem is None:
-            problem = (build_problem(config) if resume is None
-                       else restored_problem(config, resume))
+            problem = build_problem(config)
+            if resume is not None:
+                resume = checked_state(resume, problem)
+                problem.restore_state(resume.scenario)
+                problem.simulation.restore_state(resume.loop)
     except Exception as exc:  # a failure to build is a result, with the traceback kept
         return _failed(config, run_dir, exc, "building the problem")
     return _Run(config, run_dir, problem, progress, resume).execute()

@@ -312,13 +312,31 @@ class Cluster:
 
     @property
     def dashboard(self) -> str:
-        return str(getattr(self.client, "dashboard_link", "") or "")
+        """The scheduler's dashboard address, or "" where it has none: no dashboard service,
+        or no bokeh where the scheduler runs (Dask then serves a page that asks for it)."""
+        try:
+            if "dashboard" not in self.client.scheduler_info().get("services", {}):
+                return ""
+            if self._cluster is not None:          # the scheduler runs in this process
+                has_bokeh = _has_bokeh()
+            else:
+                has_bokeh = bool(self.client.run_on_scheduler(_has_bokeh))
+            return str(self.client.dashboard_link or "") if has_bokeh else ""
+        except Exception:   # an old or odd scheduler: say nothing rather than something wrong
+            return ""
 
     def __exit__(self, *exc: object) -> None:
         if self.client is not None:
             self.client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+
+def _has_bokeh() -> bool:
+    """Whether Dask can serve its dashboard here (it needs bokeh)."""
+    import importlib.util
+
+    return importlib.util.find_spec("bokeh") is not None
 
 
 def check_scheduler(address: str | None) -> None:

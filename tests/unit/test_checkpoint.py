@@ -27,7 +27,10 @@ from granflow.io.checkpoint import (
 )
 from granflow.io.run_dir import RunDir
 from granflow.io.run_state import SimulationState
-from granflow.runner import build_problem
+from granflow.runner import build_problem, checked_state
+from granflow.simulation.state_spec import StateError
+
+CONFIG = ["mesh.size=0.05", "time.t_end=0.01", "output.progress=false"]
 
 
 def assert_same(a: Any, b: Any, where: str = "state") -> None:
@@ -63,9 +66,7 @@ def assert_same(a: Any, b: Any, where: str = "state") -> None:
 def state() -> SimulationState:
     """The state of a coarse erodible collapse (surface tension and deposition on) after a
     few steps, as the runner checkpoints it."""
-    config = load_config("trapezoid-erodible", ["mesh.size=0.05", "time.t_end=0.01",
-                                                "output.progress=false"])
-    problem = build_problem(config)
+    problem = build_problem(load_config("trapezoid-erodible", CONFIG))
     problem.simulation.run()
     assert problem.simulation.step > 3
     return SimulationState(loop=problem.simulation.save_state(),
@@ -153,8 +154,9 @@ def test_a_tampered_checkpoint_is_a_clear_error(state: SimulationState, tmp_path
                                                 edit: Any) -> None:
     write_checkpoint(RunDir.create(tmp_path / "run"), state)
     root = _tampered(tmp_path, edit)
-    with pytest.raises(CheckpointError, match="checkpoint"):
-        read_checkpoint(root)
+    with pytest.raises((CheckpointError, StateError), match="checkpoint|^loop"):
+        checked_state(read_checkpoint(root),       # as `granflow resume` reads it
+                      build_problem(load_config("trapezoid-erodible", CONFIG)))
 
 
 def _mesh_entry(tree: dict[str, Any]) -> dict[str, Any]:
@@ -182,6 +184,41 @@ def test_a_checkpoint_mesh_is_checked_before_it_is_built(state: SimulationState,
 
     with pytest.raises(CheckpointError, match="mesh"):
         read_checkpoint(_tampered(tmp_path, edit))
+
+
+@pytest.mark.parametrize("edit, why", [
+    (lambda m: m.update(triangles=np.concatenate([m["triangles"]] * 2)), "a triangle twice"),
+    (lambda m: m.update(triangles=np.concatenate([m["triangles"],
+                                                  m["triangles"][:1, [1, 2, 0]]])),
+     "a triangle twice"),
+    (lambda m: m.update(triangles=m["triangles"][:, ::-1]), "inverted or of no area"),
+    (lambda m: m.update(points=np.zeros_like(m["points"])), "inverted or of no area"),
+    (lambda m: m.update(points=m["points"] * 1e300), "farther than"),
+    (lambda m: m.update(points=m["points"][np.random.default_rng(1).permutation(
+        len(m["points"]))]), "inverted or of no area|overlap"),
+    (lambda m: m.update(segments=m["segments"][1:], labels=m["labels"][1:]),
+     "do not close its domain"),
+    (lambda m: m.update(triangles=m["triangles"][1:]), "do not close its domain"),
+    (lambda m: m.update(segments=np.concatenate([m["segments"], m["segments"][:1]]),
+                        labels=np.concatenate([m["labels"], m["labels"][:1]])),
+     "a boundary segment twice"),
+], ids=["every-triangle-twice", "one-triangle-twice", "clockwise", "collapsed",
+        "scaled-1e300", "permuted", "segment-missing", "triangle-missing", "segment-twice"])
+def test_a_checkpoint_mesh_must_be_one_a_run_could_have(state: SimulationState,
+                                                        tmp_path: Path, edit: Any,
+                                                        why: str) -> None:
+    """Index ranges are not enough: each of these resumed (or ran and failed later)."""
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+
+    def change(tree: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
+        keys = {name: ref["__array__"] for name, ref in _mesh_entry(tree).items()}
+        mesh = {name: arrays[key] for name, key in keys.items()}
+        edit(mesh)
+        arrays.update({keys[name]: value for name, value in mesh.items()})
+
+    with pytest.raises(CheckpointError, match=why) as err:
+        read_checkpoint(_tampered(tmp_path, change))
+    assert "\n" not in str(err.value)
 
 
 def _vol_text(mesh: ngs.Mesh) -> str:
@@ -243,3 +280,25 @@ def test_a_bad_netgen_text_is_one_error_never_a_crash(state: SimulationState, tm
     with pytest.raises(CheckpointError, match="mesh|checkpoint") as err:
         read_checkpoint(_tampered(tmp_path, _as_version_2(text)))
     assert "\n" not in str(err.value)
+
+
+def test_a_fixed_step_policy_is_read_back_also_as_earlier_versions_wrote_it(
+        tmp_path: Path) -> None:
+    """A field left at its class default (RampedStep.recovering) was not written, and the
+    checkpoint of every fixed-step run was refused on resume: it is written now, and read
+    with its default where an earlier checkpoint lacks it."""
+    problem = build_problem(load_config("plug-flow", ["time.t_end=0.01",
+                                                      "output.progress=false"]))
+    problem.simulation.run()
+    state = SimulationState(loop=problem.simulation.save_state(), scenario=problem.save_state(),
+                            outputs={})
+    write_checkpoint(RunDir.create(tmp_path / "run"), state)
+
+    def fields(policy: Any) -> dict[str, Any]:
+        return {f.name: getattr(policy, f.name) for f in dataclasses.fields(policy)}
+
+    policy = state.loop["steps_policy"]
+    assert fields(read_checkpoint(tmp_path / "run").loop["steps_policy"]) == fields(policy)
+    earlier = _tampered(tmp_path, lambda tree, arrays: tree["loop"]["steps_policy"][
+        "fields"].pop("recovering"))
+    assert fields(read_checkpoint(earlier).loop["steps_policy"]) == fields(policy)

@@ -177,9 +177,9 @@ def test_config_is_frozen() -> None:
 
 
 @pytest.mark.parametrize("assignment, expected", [
-    ("numerics.eps=-1", "numerics.eps = -1: must be a number in (0, 1000]"),
-    ("numerics.eps=0", "numerics.eps = 0: must be a number in (0, 1000]"),
-    ("numerics.eps=abc", "numerics.eps = 'abc': must be a number in (0, 1000]"),
+    ("numerics.eps=-1", "numerics.eps = -1: must be a number in [1e-12, 1000]"),
+    ("numerics.eps=0", "numerics.eps = 0: must be a number in [1e-12, 1000]"),
+    ("numerics.eps=abc", "numerics.eps = 'abc': must be a number in [1e-12, 1000]"),
     ("numerics.epsilon=1", "unknown configuration key 'numerics.epsilon' (known keys in"),
     ("numeric.eps=1", "unknown configuration section 'numeric'"),
     ("eps=1", "unknown configuration key 'eps'"),
@@ -203,8 +203,9 @@ def test_config_is_frozen() -> None:
     ("output.progress=yes", "output.progress = 'yes': must be true or false"),
     ("numerics.linearization=secant", "must be one of 'picard', 'newton', 'hybrid', 'primal-d"),
     ("surface_tension.gamma0=-1", "surface_tension.gamma0 = -1: must be 'auto' or a number in [0"),
-    ("time.output_times=0.2", "time.output_times = 0.2: must be a list of numbers"),
-    ("numerics.eps=nan", "numerics.eps = nan: must be a number in (0, 1000]"),
+    ("time.output_times=0.2",
+     "time.output_times = 0.2: must be a list of at most 10 000 numbers"),
+    ("numerics.eps=nan", "numerics.eps = nan: must be a number in [1e-12, 1000]"),
 ])
 def test_invalid_values_give_one_line_naming_the_key(assignment: str, expected: str) -> None:
     assert expected in error_of("plug-flow", assignment)

@@ -1,4 +1,5 @@
-"""The user guide's parameter table is generated from the schema: it must be current."""
+"""The user guide's parameter table is generated from the schema: it must be current;
+the README stays short."""
 
 from __future__ import annotations
 
@@ -15,3 +16,9 @@ def test_parameters_md_is_generated_from_the_current_schema() -> None:
     spec.loader.exec_module(module)
     assert (DOCS / "parameters.md").read_text(encoding="utf-8") == module.table(), (
         "docs/parameters.md is stale: run `python docs/make_parameters.py`")
+
+
+def test_the_readme_stays_short() -> None:
+    """At most 150 lines: the detail belongs in docs/."""
+    lines = (DOCS.parent / "README.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 150, f"README.md has {len(lines)} lines; move detail into docs/"

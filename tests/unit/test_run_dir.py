@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from granflow.config import config_to_toml, load_config
-from granflow.io.run_dir import LOCK_FILE, CsvLog, RunDir, RunDirError
+from granflow.io.run_dir import LOCK_FILE, MANIFEST, CsvLog, RunDir, RunDirError
 
 
 def read_csv(path: Path) -> list[list[str]]:
@@ -24,7 +24,9 @@ def read_csv(path: Path) -> list[list[str]]:
 
 
 def files_in(folder: Path) -> list[str]:
-    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file())
+    """The files in ``folder`` but the run's manifest (its own tests read it)."""
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*")
+                  if p.is_file() and p.name != MANIFEST)
 
 
 # ---------------------------------------------------------------- creation
@@ -47,15 +49,54 @@ def test_create_accepts_an_empty_folder_and_replaces_a_previous_run_only_with_fo
                "fields/.fields.pvd.tmp", ".summary.json.k2j3h4g5.tmp.json"]
     for name in written:
         run.write_text(name, "x\n")
-    mine = ["notes.txt", "profiles/my_analysis.py", "plots/draft.txt", "paper/fig.png"]
+    # the user's files, some named as a run names its own (--force once deleted those)
+    mine = ["notes.txt", "profiles/my_analysis.py", "plots/draft.txt", "paper/fig.png",
+            "plots/holiday.png", "profiles/my_final.csv", "fields/fields_99999.vtu",
+            "frames/frame_99999.npz", "checkpoint/state.pkl"]
     for name in mine:
-        run.write_text(name, "mine\n")
+        (run.root / name).parent.mkdir(parents=True, exist_ok=True)
+        (run.root / name).write_text("mine\n")
     assert RunDir.is_run_dir(run.root)
     with pytest.raises(RunDirError, match="already holds a run; use --force"):
         RunDir.create(run.root)
     assert (run.root / "profiles/free_surface_t0.300.csv").exists()
     RunDir.create(run.root, force=True)      # cleared: old and new files never mix
     assert files_in(run.root) == sorted([LOCK_FILE, *mine])   # ... and the user's stay
+
+
+def test_force_deletes_only_what_the_manifest_lists_inside_the_layout(tmp_path: Path) -> None:
+    """A manifest from someone else may list anything: only names of the run's layout
+    inside the folder are deleted, never through a link."""
+    run = RunDir.create(tmp_path / "run")
+    run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    (tmp_path / "outside.txt").write_text("outside\n")
+    (run.root / "notes.txt").write_text("mine\n")
+    (run.root / "plots").mkdir()
+    (run.root / "elsewhere").symlink_to(tmp_path)
+    (run.root / MANIFEST).write_text("\n".join([
+        "config.toml", "../outside.txt", "/etc/hostname", "notes.txt", "elsewhere/outside.txt",
+        "plots/../notes.txt", "plots"]) + "\n")
+    RunDir.create(run.root, force=True)
+    assert (tmp_path / "outside.txt").read_text() == "outside\n"
+    assert files_in(run.root) == sorted([LOCK_FILE, "notes.txt"])
+    assert (run.root / "elsewhere").is_symlink() and not (run.root / "plots").exists()
+
+
+def test_force_refuses_a_run_of_an_earlier_granflow_without_a_manifest(tmp_path: Path) -> None:
+    """Refused as it is; once resumed, its files of the layout are listed as its own."""
+    run = RunDir.create(tmp_path / "run")
+    run.write_text("config.toml", config_to_toml(load_config("plug-flow")))
+    run.write_text("fields/fields_00003.vtu", "x\n")
+    (run.root / "notes.txt").write_text("mine\n")
+    (run.root / MANIFEST).unlink()
+    with pytest.raises(RunDirError, match="kept no list of the files it wrote"):
+        RunDir.create(run.root, force=True)
+    assert (run.root / "config.toml").exists()
+    RunDir(run.root).adopt_layout()                 # as `granflow resume` does
+    assert (run.root / MANIFEST).read_text().splitlines() == [
+        "config.toml", "fields/fields_00003.vtu"]
+    RunDir.create(run.root, force=True)
+    assert files_in(run.root) == sorted([LOCK_FILE, "notes.txt"])
 
 
 def test_an_empty_or_unwritable_out_is_an_error(tmp_path: Path) -> None:
@@ -129,6 +170,8 @@ def test_writes_leave_only_the_targets(tmp_path: Path) -> None:
     run.write_text("config.toml", "# granflow, again\n")  # replacing is atomic too
     assert files_in(tmp_path) == ["config.toml", "profiles/free_surface_t0.200.csv",
                                   "summary.json"]
+    assert (tmp_path / MANIFEST).read_text().splitlines() == [   # each once, before written
+        "config.toml", "summary.json", "profiles/free_surface_t0.200.csv"]
     assert (tmp_path / "config.toml").read_text() == "# granflow, again\n"
     assert read_csv(tmp_path / "profiles/free_surface_t0.200.csv") == [
         ["x", "z"], ["0.0", "1.0"], ["0.5", "0.25"]]

@@ -17,6 +17,7 @@ free surface (``geometry/gate.py``).
 from __future__ import annotations
 
 import copy
+from typing import ClassVar
 
 import ngsolve as ngs
 import numpy as np
@@ -47,6 +48,16 @@ from granflow.fem.sampling import triangles
 from granflow.geometry.gate import Gate
 from granflow.geometry.labels import BED, END, GATE, SURFACE, WALL
 from granflow.geometry.profile import Line
+from granflow.simulation.state_spec import (
+    COUNT,
+    REAL,
+    TIME,
+    Share,
+    dataclass_of,
+    may_lack,
+    number,
+    or_none,
+)
 
 CROSS = 1e-12   # m: a node this far beyond the bed or a wall has crossed it
 STRADDLE = 1e-5   # a bed edge this far (x the bed's extent) from a corner it spans: remesh
@@ -54,6 +65,12 @@ STRADDLE = 1e-5   # a bed edge this far (x the bed's extent) from a corner it sp
 
 class ColumnMover(AleMover):
     """AleMover with the deposition procedure and an optional area-conserving correction."""
+
+    share: ClassVar[Share] = {       # its share of a checkpoint (``save_state``)
+        "initial_area": number(0.0, above=True), "clock": may_lack(TIME),
+        "gate_opened": may_lack(COUNT), "relabelled_segments": COUNT, "limited_steps": COUNT,
+        "velocity_solves": COUNT, "correction_abs": REAL, "correction_net": REAL,
+        "tension": or_none(dataclass_of(TensionState))}
 
     def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
                  source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,

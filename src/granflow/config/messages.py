@@ -64,7 +64,12 @@ def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
         return "true or false"
     if origin is list:
         inner = get_args(args[0])[0] if args and get_origin(args[0]) is Annotated else None
-        return "a list of [x, z] points" if get_origin(inner) is list else "a list of numbers"
+        most = next((m.max_length for item in metadata for m in (
+            item.metadata if isinstance(item, FieldInfo) else [item])
+            if isinstance(m, at.MaxLen)), None)
+        size = "" if most is None else f" at most {most:,}".replace(",", " ")
+        return (f"a list of{size} [x, z] points" if get_origin(inner) is list
+                else f"a list of{size} numbers")
     if tp is str:
         return "a string"
     bounds: dict[str, float] = {}
@@ -85,12 +90,20 @@ def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
     return noun
 
 
+SHOWN = 6           # values of a long list shown in a message
+SHOWN_CHARS = 80    # characters of a long value shown in a message
+
+
 def fmt_value(value: Any) -> str:
-    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none)."""
+    """A value as the user would write it (TOML-like: true, 'text', [1.0, 2.0], none);
+    a long one shortened, so that a message stays one short line."""
     if value is None:
         return "none"
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, list | tuple):
-        return "[" + ", ".join(fmt_value(v) for v in value) + "]"
-    return repr(value)
+        shown = ", ".join(fmt_value(v) for v in value[:SHOWN])
+        more = f", ... ({len(value)} values)" if len(value) > SHOWN else ""
+        return "[" + shown + more + "]"
+    text = repr(value)
+    return text if len(text) <= SHOWN_CHARS else f"{text[:SHOWN_CHARS - 3]}..."

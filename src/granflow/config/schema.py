@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from types import NoneType
-from typing import Annotated, Any, Literal, get_args, get_origin
+from typing import Annotated, Any, Literal, NamedTuple, get_args, get_origin
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
@@ -38,6 +38,41 @@ Coordinate = Annotated[float, Field(ge=-1e5, le=1e5)]    # m
 Point = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]   # [x, z]
 Points = Annotated[list[Point], Field(min_length=1, max_length=100_000)]
 FilePath = Annotated[str, Field(min_length=1, max_length=4096)]
+
+
+class Floor(NamedTuple):
+    """The smallest value of a key whose natural bound is 0, and why (a subnormal value
+    passed validation and failed mid-run); docs/parameters.md shows the reason."""
+
+    value: float
+    why: str
+
+
+FLOORS = {
+    "material.gravity": Floor(1e-4, "the surface gravity of a 300 m asteroid"),
+    "material.grain_diameter": Floor(1e-9, "a nanometre: no grain is smaller than a "
+                                           "molecule"),
+    "gate.speed": Floor(1e-4, "a tenth of the speed below which a cell counts as at rest "
+                              "(1 mm/s)"),
+    "boundary.channel_width": Floor(1e-3, "a millimetre: a channel a few grains wide"),
+    "numerics.eps": Floor(1e-12, "a strain rate that shears by 1e-8 in the longest run "
+                                 "allowed (1e4 s)"),
+    "numerics.eps_friction": Floor(1e-12, "a slip of 10 nm in the longest run allowed "
+                                          "(1e4 s)"),
+    "numerics.tol_init": Floor(1e-14, "round-off, as numerics.tol"),
+    "time.t_end": Floor(1e-6, "a microsecond: one first step"),
+    "time.error_tol": Floor(1e-6, "the nonlinear solve's own tolerance bounds what a step's "
+                                  "error can be told from"),
+    "time.error_floor": Floor(1e-6, "a thousandth of the speed below which a cell counts as "
+                                    "at rest (1 mm/s)"),
+    "surface_tension.delta": Floor(1.0, "one surface node: any smaller extent acts on the "
+                                        "critical node alone, as 1 does"),
+}
+FLOORS["layer.grain_diameter"] = FLOORS["material.grain_diameter"]
+
+
+def floor(key: str) -> float:
+    return FLOORS[key].value
 
 
 class _Section(BaseModel):
@@ -84,10 +119,11 @@ class Material(_Section):
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
     rheology: Literal["drucker-prager", "mu-i", "nonlocal"]
-    gravity: Annotated[float, Field(gt=0, le=100)]  # g (m/s^2)
+    gravity: Annotated[float, Field(ge=floor("material.gravity"), le=100)]  # g (m/s^2)
     mu_2_deg: Angle  # mu(I): mu_2 = tan(angle), the friction at large I
     i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
-    grain_diameter: Annotated[float, Field(gt=0, le=10)]  # mu(I): d (m)
+    grain_diameter: Annotated[float, Field(ge=floor("material.grain_diameter"),
+                                           le=10)]  # mu(I): d (m)
     grain_density: Annotated[float, Field(ge=1, le=1e5)]  # mu(I): rho_s (kg/m^3)
     friction: Literal["constant", "hysteretic"]  # hysteretic: mu_start at rest, mu_flow flowing
     start_friction_angle_deg: Angle  # hysteretic: mu_start = tan(angle)
@@ -120,7 +156,8 @@ class Layer(_Section):
     rheology: Literal["drucker-prager", "mu-i", "nonlocal"] | None
     mu_2_deg: Angle | None  # mu(I) of the layer: mu_2 = tan(angle)
     i0: Annotated[float, Field(gt=0, le=100)] | None
-    grain_diameter: Annotated[float, Field(gt=0, le=10)] | None  # m
+    grain_diameter: Annotated[float, Field(ge=floor("layer.grain_diameter"),
+                                           le=10)] | None  # m
     grain_density: Annotated[float, Field(ge=1, le=1e5)] | None  # kg/m^3
     friction: Literal["constant", "hysteretic"] | None
     start_friction_angle_deg: Angle | None
@@ -156,7 +193,7 @@ class Gate(_Section):
 
     enabled: bool
     speed_law: Literal["constant", "exponential"]  # U, or U (1 - exp(-t / tau))
-    speed: Annotated[float, Field(gt=0, le=50)]  # U or U_inf (m/s): 50 m/s is instantaneous
+    speed: Annotated[float, Field(ge=floor("gate.speed"), le=50)]  # U or U_inf (m/s)
     tau: Annotated[float, Field(gt=0, le=100)]  # s, of the exponential law
     friction_deg: Angle  # Coulomb friction of the gate, mu_g = tan(angle)
 
@@ -166,7 +203,8 @@ class Boundary(_Section):
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
     penalty: Penalty  # enforces u.n = 0 on the bed and the wall
     normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
-    channel_width: Annotated[float, Field(gt=0, le=1e4)] | None  # side walls W; None = none
+    channel_width: Annotated[float, Field(ge=floor("boundary.channel_width"),
+                                          le=1e4)] | None  # side walls W; None = none
     side_wall_friction_deg: Angle  # Coulomb mu_w = tan(angle) of the side walls
     bed_fluidity: Literal["zero-flux", "zero"]  # nonlocal law: g's condition on a Coulomb bed
 
@@ -198,10 +236,12 @@ class Mesh(_Section):
 
 
 class Numerics(_Section):
-    eps: Annotated[float, Field(gt=0, le=1e3)]  # regularisation epsilon of (2.13) (1/s)
-    eps_friction: Annotated[float, Field(gt=0, le=1e3)]  # of the Coulomb friction (m/s)
+    eps: Annotated[float, Field(ge=floor("numerics.eps"), le=1e3)]  # of (2.13) (1/s)
+    eps_friction: Annotated[float, Field(ge=floor("numerics.eps_friction"),
+                                         le=1e3)]  # of the Coulomb friction (m/s)
     tol: Annotated[float, Field(ge=1e-14, lt=1)]  # stopping tolerance of (3.2); >= round-off
-    tol_init: Fraction | None  # start tolerance of the ramp; None = tol
+    tol_init: Annotated[float, Field(ge=floor("numerics.tol_init"), lt=1)] | None  # ramp
+    # start tolerance; None = tol
     max_iterations: Annotated[int, Field(ge=1, le=10**5)]
     linearization: Literal["picard", "newton", "hybrid", "primal-dual"]
     mesh_velocity: Literal["fixed", "vertical", "elastic", "lagrange"]
@@ -224,24 +264,27 @@ class Numerics(_Section):
 
 
 class Time(_Section):
-    t_end: Duration
+    t_end: Annotated[float, Field(ge=floor("time.t_end"), le=1e4)]  # s
     dt: Step | None  # fixed step; overrides the ramp
     dt_init: Step
     dt_max: Step
     dt_growth: Annotated[float, Field(ge=1, le=10)]
     adaptive: bool  # error-controlled steps; false keeps the paper's ramp (section 3.1)
     scheme: Literal["implicit-euler", "bdf2"]  # time scheme of (3.2a): order 1 or 2
-    error_tol: Fraction  # adaptive: local velocity error per step / RMS speed
-    error_floor: Annotated[float, Field(gt=0, le=1e3)]  # adaptive: m/s, RMS speed floor
+    error_tol: Annotated[float, Field(ge=floor("time.error_tol"), lt=1)]  # adaptive:
+    # local velocity error per step / RMS speed
+    error_floor: Annotated[float, Field(ge=floor("time.error_floor"), le=1e3)]  # adaptive:
+    # m/s, RMS speed floor
     stop_at_rest: bool  # end the run once the mass has come to rest
     rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
     rest_duration: Annotated[float, Field(ge=0, le=1e4)]  # s at rest before the run ends
-    output_times: list[float]
+    output_times: Annotated[list[float], Field(max_length=10_000)]
 
 
 class SurfaceTension(_Section):
     enabled: bool
-    delta: Annotated[float, Field(gt=0, le=1e4)]  # extent in surface nodes (3.11)
+    delta: Annotated[float, Field(ge=floor("surface_tension.delta"), le=1e4)]  # (3.11):
+    # extent in surface nodes
     gamma0: Literal["auto"] | Annotated[float, Field(ge=0, le=1e9)]  # gamma0-bar of (3.11)
     trigger_angle_deg: Annotated[float, Field(ge=0, le=180)]  # on where the surface turns >=
     release_angle_deg: Annotated[float, Field(ge=0, le=180)]  # stays on while it turns >=

@@ -32,6 +32,7 @@ from granflow.physics import DruckerPrager, Rheology, SideWallFriction
 from granflow.physics.hysteresis import Hysteretic
 from granflow.physics.regions import TwoMaterials
 from granflow.simulation.outcomes import IterationReport
+from granflow.simulation.state_spec import FLAG, Share, array, assign, may_lack, number
 
 Carry = Callable[[ngs.GridFunction, ngs.GridFunction], None]   # (old field, new field)
 
@@ -273,14 +274,25 @@ class FlowSolver:
             state["fluidity"] = self.fluidity.previous.vec.FV().NumPy().copy()
         return state
 
+    def history_share(self) -> Share:
+        """What the members of ``save_history`` may be (in a checkpoint)."""
+        share = {**self.scheme.share, "extrapolation_won": may_lack(FLAG)}
+        if self.augmented is not None:
+            share |= {"strain": array("strain dofs"), "multiplier": array("strain dofs"),
+                      "augmentation": may_lack(number(0.0, above=True))}
+        if self.fluidity is not None:     # restore_history says if it is missing
+            share |= {"fluidity": may_lack(array("fluidity dofs"))}
+        return share
+
     def restore_history(self, state: dict[str, object]) -> None:
         """Inverse of ``save_history`` on a solver built on the same mesh."""
         self.scheme.restore(state)
         self.extrapolation_won = bool(state.get("extrapolation_won", True))
         self.solution.vec.data = self.previous.vec
         if self.augmented is not None:
-            self.strain.vec.FV().NumPy()[:] = state["strain"]
-            self.multiplier.vec.FV().NumPy()[:] = state["multiplier"]
+            assign(self.strain.vec.FV().NumPy(), state["strain"], "the saved strain rate d")
+            assign(self.multiplier.vec.FV().NumPy(), state["multiplier"],
+                   "the saved multiplier lambda")
             if "augmentation" in state:
                 self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
             self.augmented.remember()

@@ -29,6 +29,7 @@ from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.sampling import cell_means, vertex_samples
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.physics.regions import blend
+from granflow.simulation.state_spec import assign
 
 # The reaction, time and source terms on 6 interior points (order 4). I = gamma_dot d /
 # sqrt(P / rho_s) is singular where P -> 0: NGSolve's order-2 rule, which it picks for these
@@ -117,7 +118,7 @@ class FluidityField:
         if isinstance(values, ngs.CoefficientFunction):
             self.previous.Set(values)
         else:
-            self.previous.vec.FV().NumPy()[:] = np.asarray(values, dtype=float)
+            assign(self.previous.vec.FV().NumPy(), values, "the fluidity's values")
         self.reject()
 
     def reset_factorisation(self) -> None:

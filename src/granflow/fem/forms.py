@@ -21,7 +21,7 @@ from typing import Protocol
 
 import ngsolve as ngs
 
-from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.engine import NGSOLVE_OPS, read_on_walls
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.physics import CoulombFriction, Rheology, SideWallFriction
 
@@ -70,7 +70,9 @@ class Term(Protocol):
     """One term of the residual R = lhs - rhs; ``rhs`` holds the parts free of (u, p).
 
     A term whose ``lhs`` does not read (u_lin, p_lin) sets ``step_constant = True``: the
-    fixed-point iteration assembles it once per step instead of once per iteration.
+    fixed-point iteration assembles it once per step instead of once per iteration. One that
+    reads the volume on a boundary (``BoundaryFromVolumeCF``) sets ``compiled = False``:
+    NGSolve's compiler prints a line per such node (and computes the same matrix).
     """
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
@@ -157,12 +159,13 @@ class ViscoplasticStress(_LhsOnly):
         wall friction; m sees the whole |Du|, hoop part included); a known (frozen) strain
         rate is traced from the volume before m is formed."""
         du = strain_rate(u_lin)              # the in-plane block, all a wall's normal sees
+        law = self.rheology
         if frozen:
-            du = ngs.BoundaryFromVolumeCF(du)
+            du, law = ngs.BoundaryFromVolumeCF(du), read_on_walls(law)
         square = ngs.InnerProduct(du, du)
         if self.coords.axisymmetric:         # |Du|^2 has the hoop part, continuous across
             square = square + self.coords.hoop_strain(u_lin) ** 2
-        m = self.rheology.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
+        m = law.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
         return m * du
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
@@ -230,6 +233,7 @@ class CoulombWallFriction:
     wall: FrictionWall
     stress: StressTerm
     penalty: float = 0.0     # xi of NormalPenalty, for normal_load = "reaction"
+    compiled = False         # sigma'_N of a frozen iterate is read from the volume
 
     @property
     def rhs_reads_iterate(self) -> bool:
@@ -384,8 +388,10 @@ def fixed_point_forms(space: ngs.FESpace, terms: Sequence[Term],
         if (lhs := term.lhs(s, space.mesh)) is not None:
             if getattr(term, "step_constant", False):
                 a0 += lhs
-            else:
+            elif getattr(term, "compiled", True):
                 a += lhs.Compile()   # the same matrix, ~12 % faster to assemble
+            else:
+                a += lhs
         if (rhs := term.rhs(s, space.mesh)) is not None:
             f += rhs
     reads = any(getattr(term, "rhs_reads_iterate", False) for term in terms)

@@ -36,9 +36,9 @@ class MobilisationField:
         self.mesh = mesh
         self.space = ngs.L2(mesh, order=0, dgjumps=True)
         self.state = ngs.GridFunction(self.space)
-        # on a wall the adjacent triangle's value (a plain L2 function is 0 on a boundary
-        # element, which would load the Coulomb walls with the wrong friction)
-        self.cf = ngs.BoundaryFromVolumeCF(self.state)
+        # the law reads it as it is; on a wall from the adjacent triangle (a plain L2
+        # function is 0 on a boundary element): ``fem/engine.py: read_on_walls``
+        self.cf = self.state
         self._mesh_velocity = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
 
     @property

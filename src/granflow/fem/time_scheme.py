@@ -28,6 +28,7 @@ from typing import ClassVar
 import ngsolve as ngs
 
 from granflow.fem.forms import BackwardDifferenceInertia, Inertia, Term
+from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack
 
 SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 SCHEMES = ("implicit-euler", "bdf2")
@@ -74,6 +75,8 @@ class TimeScheme:
     name: ClassVar[str]
     order: ClassVar[int]
     depth: ClassVar[int]      # history states kept (besides the newest)
+    share: ClassVar[Share] = {"previous": array("dofs"), "before_previous": array("dofs"),
+                              "dt_previous": TIME}      # of a checkpoint (``save``)
 
     def __init__(self, space: ngs.FESpace, density: float | ngs.CoefficientFunction) -> None:
         self.density = density
@@ -137,8 +140,9 @@ class TimeScheme:
                 "dt_previous": self.dt_previous}
 
     def restore(self, state: dict[str, object]) -> None:
-        self.previous.vec.FV().NumPy()[:] = state["previous"]
-        self.before_previous.vec.FV().NumPy()[:] = state["before_previous"]
+        assign(self.previous.vec.FV().NumPy(), state["previous"], "the saved u^n")
+        assign(self.before_previous.vec.FV().NumPy(), state["before_previous"],
+               "the saved u^{n-1}")
         self.dt_previous = float(state["dt_previous"])  # type: ignore[arg-type]
 
     def inherit(self, other: TimeScheme, carry: object) -> None:
@@ -170,6 +174,8 @@ class BDF2(TimeScheme):
     name = "bdf2"
     order = 2
     depth = 2
+    share = {**TimeScheme.share, "oldest": may_lack(array("dofs")),   # an implicit-Euler
+             "dt_older": may_lack(TIME)}                             # run's has neither
 
     def __init__(self, space: ngs.FESpace, density: float | ngs.CoefficientFunction) -> None:
         super().__init__(space, density)
@@ -235,7 +241,7 @@ class BDF2(TimeScheme):
     def restore(self, state: dict[str, object]) -> None:
         super().restore(state)
         if "oldest" in state:
-            self.oldest.vec.FV().NumPy()[:] = state["oldest"]
+            assign(self.oldest.vec.FV().NumPy(), state["oldest"], "the saved u^{n-2}")
             self.dt_older = float(state["dt_older"])  # type: ignore[arg-type]
         else:   # a checkpoint of an implicit-Euler run: start the third state afresh
             self.dt_older = 0.0

@@ -21,7 +21,6 @@ import dataclasses
 import importlib
 import io
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -36,7 +35,9 @@ from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
 
 CHECKPOINT_FILE = "checkpoint/state.npz"
 LEGACY_CHECKPOINT_FILE = "checkpoint/state.pkl"
-CHECKPOINT_LIMIT = 1024 * MB   # the largest mesh allowed (100,000 triangles) needs ~100 MB
+# the members a state names, together: the largest mesh allowed (100,000 triangles)
+# needs ~100 MB; members it does not name are never read
+CHECKPOINT_LIMIT = 512 * MB
 READABLE_VERSIONS = (2, STATE_VERSION)
 _STATE_ENTRY = "__state__"
 # the dataclasses a run state holds, by "module:name"; nothing else is ever constructed
@@ -76,20 +77,20 @@ def read_checkpoint(root: Path) -> SimulationState:
                               "checkpoints every output.checkpoint_every steps, when it is "
                               "interrupted, when it fails and when it ends")
     try:
-        arrays = load_npz(read_bytes(path, CHECKPOINT_LIMIT), path, CHECKPOINT_LIMIT)
-        state = arrays.pop(_STATE_ENTRY, None)
-        if state is None or state.dtype != np.uint8 or state.ndim != 1:
+        data = read_bytes(path, CHECKPOINT_LIMIT)
+        state = load_npz(data, path, CHECKPOINT_LIMIT, names=[_STATE_ENTRY])[_STATE_ENTRY]
+        if state.dtype != np.uint8 or state.ndim != 1:
             raise ValueError(f"it has no {_STATE_ENTRY} entry")
         tree = json.loads(state.tobytes().decode("utf-8"))
         if not isinstance(tree, dict) or tree.get("version") not in READABLE_VERSIONS:
             raise CheckpointError(f"the checkpoint '{path}' was written by another version "
                                   "of granflow; rerun the case")
+        arrays = load_npz(data, path, CHECKPOINT_LIMIT, names=sorted(_named_members(tree)))
         parts = [_decode(tree.get(part), arrays) for part in ("loop", "scenario", "outputs")]
         if not all(isinstance(part, dict) for part in parts):
             raise ValueError("its state is not made of the loop's, the scenario's and the "
                              "outputs' parts")
-        return SimulationState(loop=_checked_loop(parts[0]), scenario=parts[1],
-                               outputs=parts[2])
+        return SimulationState(loop=parts[0], scenario=parts[1], outputs=parts[2])
     except CheckpointError:
         raise
     except RunDirError as err:
@@ -106,22 +107,29 @@ def pickle_refusal(root: Path) -> str:
             f"case again with `granflow run {Path(root) / 'config.toml'} --out NEW_DIR`")
 
 
-def _checked_loop(loop: dict[str, Any]) -> dict[str, Any]:
-    """The loop's share with its time, step and counters checked (what the loop compares
-    and counts with before any other part of the state is used)."""
-    for key in ("t", "dt", "wall_time_s"):
-        value = loop.get(key)
-        if isinstance(value, bool) or not isinstance(value, int | float) or \
-                not math.isfinite(value) or value < 0:
-            raise ValueError(f"its time {key} = {str(value)[:40]} is not a number >= 0")
-    for key in ("step", "rejected_steps", "nonlinear_iterations", "momentum_solves"):
-        value = loop.get(key)
-        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-            raise ValueError(f"its counter {key} = {str(value)[:40]} is not a whole number")
-    if not isinstance(loop.get("rejections"), dict) or \
-            not isinstance(loop.get("stop_criteria"), list):
-        raise ValueError("its loop state lacks the rejections or the stop criteria")
-    return loop
+def _named_members(tree: Any) -> set[str]:
+    """The archive members the state's JSON refers to (its arrays, bytes and meshes)."""
+    names: set[str] = set()
+    stack = [tree]
+    while stack:
+        value = stack.pop()
+        if isinstance(value, dict):
+            for tag in ("__array__", "__bytes__"):
+                if tag in value:
+                    names.add(_member(value[tag]))
+            mesh = value.get("__mesh__")
+            if isinstance(mesh, list):                 # version 2: text and coordinates
+                names.update(map(_member, mesh))
+            stack.extend(value.values())
+        elif isinstance(value, list):
+            stack.extend(value)
+    return names
+
+
+def _member(name: Any) -> str:
+    if not isinstance(name, str):
+        raise ValueError(f"its state names an array by {str(name)[:40]!r}")
+    return name
 
 
 def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
@@ -150,7 +158,8 @@ def _encode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
         name = f"{type(value).__module__}:{type(value).__qualname__}"
         if name not in _DATACLASSES:
             raise TypeError(f"checkpoint: {name} is not in the list of state dataclasses")
-        return {"__dataclass__": name, "fields": _encode(dict(vars(value)), arrays)}
+        return {"__dataclass__": name, "fields": _encode(
+            {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}, arrays)}
     raise TypeError(f"checkpoint: cannot store a {type(value).__name__}")
 
 
@@ -174,16 +183,20 @@ def _decode(value: Any, arrays: dict[str, np.ndarray]) -> Any:
 
 
 def _dataclass(name: Any, fields: Any) -> Any:
-    """An instance of a listed state dataclass with exactly its own fields."""
+    """An instance of a listed state dataclass with its own fields only, each given or
+    with a default (earlier checkpoints left out a field never set after its default)."""
     if name not in _DATACLASSES:
         raise ValueError(f"unknown state class {str(name)[:60]!r}")
     module, qualname = name.split(":")
     cls = getattr(importlib.import_module(module), qualname)
+    defaults = {f.name: f.default for f in dataclasses.fields(cls)
+                if f.default is not dataclasses.MISSING}
     names = {f.name for f in dataclasses.fields(cls)}
-    if not isinstance(fields, dict) or set(fields) != names:
+    if not isinstance(fields, dict) or not set(defaults) | set(fields) >= names or \
+            not set(fields) <= names:
         raise ValueError(f"the state of {qualname} does not have its fields {sorted(names)}")
     obj = cls.__new__(cls)
-    obj.__dict__.update(fields)
+    obj.__dict__.update(defaults | fields)
     return obj
 
 

@@ -35,6 +35,8 @@ from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
 
 STATIC, FLOWING = "0.62", "#bcd7ee"        # fills of the static and flowing zones
+MARKED = 100      # events marked a line each on the time axis; more are counted only
+CURVES = 40       # output times drawn (evenly chosen among more, the first and last kept)
 
 
 @dataclass(frozen=True)
@@ -68,7 +70,9 @@ class View:
                  if profiles.profile_at(self.run_dir.root, "free_surface", t) is not None
                  and not any(abs(t - x) < 1e-9 for x in rest)]
         # an output time at the last state (t_end) is the last state's curve, drawn once
-        self.times = [t for t in drawn if self.final is None or abs(t - self.final.t) > 1e-6]
+        times = [t for t in drawn if self.final is None or abs(t - self.final.t) > 1e-6]
+        keep = np.unique(np.linspace(0, len(times) - 1, min(len(times), CURVES)).round())
+        self.times = [times[int(i)] for i in keep]
         cmap = plt.get_cmap("viridis")
         n = max(len(self.times), 1)
         self.colours = {t: cmap(0.9 * i / max(n - 1, 1)) for i, t in enumerate(self.times)}
@@ -295,12 +299,13 @@ def _history(view: View) -> None:
             ("deposition", "tab:orange", "-.", "a surface edge lands on the bed")):
         times = [t for t in view.summary.get(f"{name}_times_s") or []
                  if isinstance(t, int | float)]
-        for t in times:
+        for t in times if len(times) <= MARKED else []:
             for a in (a1, a2):
                 a.axvline(t, color=colour, lw=0.6, ls=style)
         if times:
+            unmarked = f", more than {MARKED}: not marked" if len(times) > MARKED else ""
             handles.append(Line2D([], [], color=colour, lw=0.6, ls=style,
-                                  label=f"{name} ({len(times)}): {words}"))
+                                  label=f"{name} ({len(times)}{unmarked}): {words}"))
     stop = view.summary.get("stop_time_s")
     if isinstance(stop, int | float):
         for a in (a1, a2):

@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
+from granflow.config.messages import fmt_value
 from granflow.io.atomic import atomic_write_bytes
 from granflow.io.untrusted import RunDirError, is_regular, read_text
 
@@ -35,8 +36,8 @@ class CsvLog:
             with io.StringIO(read_text(self.path), newline="") as f:
                 found = next(csv.reader(f), [])
             if found != self.header:
-                raise RunDirError(f"cannot append to '{self.path}': its header {found} "
-                                  f"differs from {self.header}")
+                raise RunDirError(f"cannot append to '{self.path}': its header "
+                                  f"{fmt_value(found)} differs from {fmt_value(self.header)}")
         else:   # a fresh log replaces whatever has the name (a link is not followed)
             atomic_write_bytes(self.path, _csv_line(self.header).encode("utf-8"))
         self._file: TextIO = _open_append(self.path)

@@ -20,10 +20,11 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from granflow.io.run_dir import CsvLog, RunDir, atomic_write_bytes
 from granflow.io.untrusted import RunDirError, is_regular, read_text
+from granflow.simulation.state_spec import COUNT, Share, may_lack
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -40,6 +41,7 @@ class DiagnosticsLog:
     problem's parts declare); ``rows`` is what a checkpoint remembers."""
 
     name = "diagnostics"
+    share: ClassVar[Share] = {"diagnostic_rows": may_lack(COUNT)}    # of a checkpoint
 
     def __init__(self, run_dir: RunDir, resume: Mapping[str, Any] | None = None,
                  columns: Sequence[str] = ()) -> None:
@@ -71,7 +73,7 @@ def read_diagnostics(root: Path) -> pd.DataFrame:
     if not text:
         return pd.DataFrame(columns=COLUMNS)
     try:
-        table = pd.read_csv(io.StringIO(text))
+        table = pd.read_csv(io.StringIO(text), low_memory=False)   # whole columns typed
     except (ValueError, pd.errors.ParserError) as err:
         raise RunDirError(f"'{path}' is not a CSV table: {str(err).strip()[:200]}") from None
     odd = [c for c in table.columns if table[c].dtype.kind not in "biuf"]

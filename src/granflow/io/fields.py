@@ -14,7 +14,7 @@ friction mobilisation (the state s of ``physics/hysteresis.py``).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
 import ngsolve as ngs
 import numpy as np
@@ -25,6 +25,7 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import FOLDER, VtkSeries
+from granflow.simulation.state_spec import TIME, Share, list_of, may_lack, text, tuple_of
 
 
 class FlowState(Protocol):
@@ -39,12 +40,15 @@ class FieldSnapshots:
     ``cell_data``: the problem's own cell data (name -> one value per triangle)."""
 
     name = "fields"
+    share: ClassVar[Share] = {"vtk_entries": may_lack(list_of(tuple_of(      # of a checkpoint
+        TIME, text(r"fields_\d{5,9}\.vtu", "a snapshot's name fields_NNNNN.vtu"))))}
 
     def __init__(self, run_dir: RunDir, state: FlowState,
                  resume: Mapping[str, Any] | None = None,
                  cell_data: Callable[[], dict[str, np.ndarray]] | None = None) -> None:
         self.state, self.cell_data = state, cell_data
-        self.series = VtkSeries(run_dir.path(FOLDER))
+        self.series = VtkSeries(run_dir.path(FOLDER),
+                                place=lambda name: run_dir.path(f"{FOLDER}/{name}"))
         self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
 
     def write(self, t: float) -> None:

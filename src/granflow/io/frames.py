@@ -11,12 +11,13 @@ import io
 import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from granflow.io.run_dir import RunDir
 from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
+from granflow.simulation.state_spec import COUNT, Share, may_lack
 
 FRAMES = "frames"
 INTERVAL_S = 0.02   # simulated time between frames
@@ -28,6 +29,7 @@ class AnimationFrames:
     time is the runner's)."""
 
     name = "frames"
+    share: ClassVar[Share] = {"frames_written": may_lack(COUNT)}    # of a checkpoint
 
     def __init__(self, run_dir: RunDir, frame: Callable[[Any], dict[str, Any]],
                  resume: Mapping[str, Any] | None = None) -> None:

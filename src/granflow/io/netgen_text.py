@@ -16,6 +16,7 @@ import numpy as np
 from granflow.geometry.mesh import LABELS
 
 MAX_ITEMS = 10**7      # points, triangles or segments of one mesh
+FARTHEST = 1e6         # m from the origin: the configuration's points lie within 1e5 m
 _SINGLE = {"dimension", "geomtype"}          # a keyword and one value line
 
 
@@ -53,6 +54,37 @@ class MeshArrays:
             raise ValueError("the mesh has no triangles")
         if len(self.labels) != len(self.segments) or not set(self.labels) <= set(LABELS):
             raise ValueError("the mesh's boundary labels do not match its segments")
+        _check_geometry(self.points, self.triangles, self.segments)
+
+
+def _check_geometry(points: np.ndarray, triangles: np.ndarray, segments: np.ndarray) -> None:
+    """Raise ValueError unless the mesh is one a run could have: vertices within
+    ``FARTHEST``, every triangle counter-clockwise with a positive area, none twice, no two
+    overlapping along an edge (an edge is used at most once in each direction), and the
+    labelled segments exactly the edges of one triangle (the boundary, closed)."""
+    if np.abs(points).max() > FARTHEST:
+        raise ValueError(f"the mesh has a vertex farther than {FARTHEST:g} m from the origin")
+    a, b, c = (points[triangles[:, i]] for i in range(3))
+    areas = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    if not (areas > 0).all():
+        bad = np.flatnonzero(~(areas > 0))
+        raise ValueError(f"the mesh has {len(bad)} triangles that are inverted or of no area "
+                         f"(triangle {bad[0]} first)")
+    if len(np.unique(np.sort(triangles, axis=1), axis=0)) < len(triangles):
+        raise ValueError("the mesh holds a triangle twice")
+    directed = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    if len(np.unique(directed, axis=0)) < len(directed):
+        raise ValueError("two triangles of the mesh overlap (an edge is used twice in the "
+                         "same direction)")
+    edges, counts = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
+    boundary = {tuple(edge) for edge in edges[counts == 1].tolist()}
+    labelled = [tuple(edge) for edge in np.sort(segments, axis=1).tolist()]
+    if len(set(labelled)) < len(labelled):
+        raise ValueError("the mesh has a boundary segment twice")
+    if set(labelled) != boundary:
+        raise ValueError(f"the mesh's labelled segments do not close its domain "
+                         f"({len(boundary - set(labelled))} boundary edges without a label, "
+                         f"{len(set(labelled) - boundary)} labels off the boundary)")
 
 
 def parse_vol(text: str) -> MeshArrays:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import fnmatch
 import io
 import json
 import math
@@ -27,7 +28,7 @@ from filelock import FileLock, Timeout
 from granflow.io.atomic import atomic_file, atomic_write_bytes, atomic_write_text
 from granflow.io.csv_log import CsvLog
 from granflow.io.folders import check_folder, prepare_folder
-from granflow.io.untrusted import MB, RunDirError, read_bytes, read_text
+from granflow.io.untrusted import MB, RunDirError, is_regular, read_bytes, read_text
 
 __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes",
            "atomic_write_text", "check_folder", "prepare_folder"]
@@ -36,8 +37,10 @@ __all__ = ["CsvLog", "RunDir", "RunDirError", "atomic_file", "atomic_write_bytes
 RUN_MARKER_FILE = "config.toml"
 RUN_MARKER_PREFIX = "# granflow"
 LOCK_FILE = ".granflow.lock"   # held (flock) by the process writing into the folder
-# What a run writes (``--force`` deletes these and nothing else): files at the top, and
-# per folder the names of its files.
+# Every file and folder a run asks for, one relative path a line, appended before it is
+# written: ``--force`` deletes what it lists, and of that only names of the layout below.
+MANIFEST = ".granflow.manifest"
+# What a run writes: files at the top, and per folder the names of its files.
 RUN_FILES = ("config.toml", "summary.json", "diagnostics.csv", "traceback.txt")
 RUN_FOLDERS = {
     "profiles": re.compile(r"[a-z_]+_(t\d+(\.\d+)?|final)\.csv|units\.json|final_error\.txt"),
@@ -73,6 +76,7 @@ class RunDir:
     def __init__(self, root: Path) -> None:
         self.root = Path(root)
         self._lock: FileLock | None = None
+        self._listed: set[str] | None = None      # the manifest's entries, once read
 
     @classmethod
     def create(cls, path: Path, force: bool = False) -> RunDir:
@@ -95,6 +99,11 @@ class RunDir:
                 if not force:
                     raise RunDirError(f"output folder '{path}' already holds a run; use --force "
                                       f"to replace it, or `granflow resume {path}` to continue it")
+                if not os.path.lexists(path / MANIFEST):
+                    raise RunDirError(f"output folder '{path}' holds a run of an earlier "
+                                      "granflow, which kept no list of the files it wrote: "
+                                      "--force deletes only those; remove the folder yourself "
+                                      "or choose another --out")
                 run = cls(path)
                 with run.lock():
                     run.clear()
@@ -108,24 +117,72 @@ class RunDir:
         return cls(path)
 
     def clear(self) -> None:
-        """Delete what a run wrote (``RUN_FILES``, the files of ``RUN_FOLDERS`` and the
-        temporary files) and nothing else: other files stay, and so do the folders that
-        hold them. A link in a run file's place is deleted, never followed."""
-        for name in RUN_FILES:
-            _unlink(self.root / name)
+        """Delete what a run wrote: the files its manifest lists whose names are of the
+        layout (``RUN_FILES``, the files of ``RUN_FOLDERS``), the temporary files, then the
+        run's folders that are left empty; nothing else, whatever its name. A link in a
+        run file's place is deleted, never followed."""
+        listed = [Path(entry) for entry in sorted(self.listed()) if _of_the_layout(entry)]
+        for entry in listed:
+            if len(entry.parts) == 1 and entry.name in RUN_FOLDERS:
+                continue
+            folder = self.root / entry.parts[0]
+            if len(entry.parts) == 2 and (folder.is_symlink() or not folder.is_dir()):
+                continue                # never through a link
+            _unlink(self.root / entry)
         self.remove_temporary_files()
+        for folder in RUN_FOLDERS:
+            path = self.root / folder
+            if path.is_symlink() or (os.path.lexists(path) and not path.is_dir()):
+                _unlink(path)           # a link or a file where the run's folder goes
+            elif path.is_dir():
+                with contextlib.suppress(OSError):
+                    path.rmdir()        # only if nothing else is left in it
+        _unlink(self.root / MANIFEST)
+        self._listed = None
+
+    def listed(self) -> set[str]:
+        """The paths the manifest lists (what this folder's runs asked to write)."""
+        if self._listed is None:
+            path = self.root / MANIFEST
+            text = read_text(path, SUMMARY_LIMIT) if os.path.lexists(path) else ""
+            self._listed = set(text.splitlines())
+        return self._listed
+
+    def adopt_layout(self) -> None:
+        """In a folder without a manifest (a run of an earlier granflow, being resumed),
+        list the files of the layout it holds: they are that run's, and a later --force
+        deletes them with the resumed session's."""
+        if os.path.lexists(self.root / MANIFEST):
+            return
+        found = [name for name in RUN_FILES if is_regular(self.root / name)]
         for folder, names in RUN_FOLDERS.items():
             path = self.root / folder
-            if path.is_symlink() or (path.exists() and not path.is_dir()):
-                _unlink(path)
-                continue
-            if not path.is_dir():
-                continue
-            for entry in path.iterdir():
-                if names.fullmatch(entry.name) and not _is_folder(entry):
-                    _unlink(entry)
-            with contextlib.suppress(OSError):
-                path.rmdir()            # only if nothing else is left in it
+            if path.is_dir() and not path.is_symlink():
+                found += [f"{folder}/{e.name}" for e in sorted(path.iterdir())
+                          if names.fullmatch(e.name) and is_regular(e)]
+        for entry in found:
+            self._record(entry)
+
+    def written(self, pattern: str) -> list[Path]:
+        """The files of the layout the manifest lists whose paths match ``pattern`` (a
+        glob): files of an earlier session, never a user's of the same name."""
+        return [self.root / entry for entry in sorted(self.listed())
+                if _of_the_layout(entry) and fnmatch.fnmatchcase(entry, pattern)]
+
+    def _record(self, relpath: str) -> None:
+        """Add ``relpath`` to the manifest (before it is written: a killed run's files are
+        listed); the manifest itself is never followed through a link."""
+        if relpath in self.listed():
+            return
+        flags = os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK
+        try:
+            fd = os.open(self.root / MANIFEST, flags, 0o644)
+            with os.fdopen(fd, "a", encoding="utf-8") as f:
+                f.write(relpath + "\n")
+        except OSError as err:
+            raise RunDirError(f"cannot write '{self.root / MANIFEST}': "
+                              f"{err.strerror or err}") from None
+        self.listed().add(relpath)
 
     def check_layout(self) -> None:
         """Before a run writes into an existing folder: each file of the layout is a file
@@ -193,7 +250,7 @@ class RunDir:
         """``path``/summary.json, or {} without a readable one (missing, not a regular
         file, not JSON, not an object). Members granflow reads that have the wrong type (a
         status that is not text, a time that is not a number) are left out, as if
-        missing."""
+        missing; so are lists of times longer than ``SUMMARY_LIST_LIMIT``."""
         try:
             summary = json.loads(read_text(Path(path) / "summary.json", SUMMARY_LIMIT))
         except (RunDirError, ValueError, RecursionError):
@@ -222,6 +279,7 @@ class RunDir:
         except OSError as err:
             raise RunDirError(f"cannot create the folder '{path.parent}' of the run: "
                               f"{err.strerror or err}") from None
+        self._record(Path(relpath).as_posix())
         return parent / path.name
 
     @contextlib.contextmanager
@@ -263,6 +321,8 @@ class RunDir:
         return CsvLog(self.path(relpath), header, resume=resume)
 
 
+SUMMARY_LIST_LIMIT = 10_000      # times in one summary list (a run remeshes a few hundred)
+_SUMMARY_LISTS = frozenset({"outputs_at_rest", "remesh_times_s", "deposition_times_s"})
 _SUMMARY_TEXT = frozenset({"scenario", "status", "message", "linear_solver"})
 _SUMMARY_NUMBERS = frozenset({
     "t_final", "final_profiles_t", "stop_time_s", "wall_time_s", "runout_m", "steps",
@@ -279,9 +339,20 @@ def _summary_member_ok(key: str, value: Any) -> bool:
         return isinstance(value, str)
     if key in _SUMMARY_NUMBERS:
         return value is None or number(value)
-    if key == "outputs_at_rest":
-        return isinstance(value, list) and all(number(x) for x in value)
+    if key in _SUMMARY_LISTS:
+        return isinstance(value, list) and len(value) <= SUMMARY_LIST_LIMIT and all(
+            number(x) for x in value)
     return True
+
+
+def _of_the_layout(entry: str) -> bool:
+    """A manifest's entry that names a file of the layout (or one of its folders), inside
+    the run directory."""
+    parts = entry.split("/")
+    if len(parts) == 1:
+        return entry in RUN_FILES or entry in RUN_FOLDERS or bool(TEMPORARY.fullmatch(entry))
+    return len(parts) == 2 and parts[0] in RUN_FOLDERS and bool(
+        RUN_FOLDERS[parts[0]].fullmatch(parts[1]) or TEMPORARY.fullmatch(parts[1]))
 
 
 def _is_folder(path: Path) -> bool:

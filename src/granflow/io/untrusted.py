@@ -17,6 +17,7 @@ import os
 import re
 import stat
 import zipfile
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
@@ -88,10 +89,13 @@ def parse_xml(data: bytes, path: Path) -> Any:
         raise RunDirError(f"'{path}' is not valid XML: {err}") from None
 
 
-def load_npz(data: bytes, path: Path, member_limit: int) -> dict[str, np.ndarray]:
+def load_npz(data: bytes, path: Path, member_limit: int,
+             names: Collection[str] | None = None) -> dict[str, np.ndarray]:
     """The arrays of the NumPy archive ``data`` (of ``path``), each checked before it is
     read: a plain name, its declared size at most ``member_limit`` bytes and consistent with
-    its header's shape, no object dtype (never pickle)."""
+    its header's shape, no object dtype (never pickle). With ``names``, only those members
+    are read (each must be there), and their declared sizes add up to at most
+    ``member_limit``."""
     arrays = {}
     try:
         with zipfile.ZipFile(io.BytesIO(data)) as archive:
@@ -99,6 +103,8 @@ def load_npz(data: bytes, path: Path, member_limit: int) -> dict[str, np.ndarray
             if len(members) > ARCHIVE_MEMBERS:
                 raise RunDirError(f"'{path}' holds {len(members)} arrays; a granflow file "
                                   f"holds at most {ARCHIVE_MEMBERS}")
+            if names is not None:
+                members = _named(members, names, path, member_limit)
             for info in members:
                 name = _member_name(info, path, member_limit)    # checked before it is read
                 arrays[name] = _read_member(archive, info, path)
@@ -106,6 +112,21 @@ def load_npz(data: bytes, path: Path, member_limit: int) -> dict[str, np.ndarray
             NotImplementedError, RuntimeError, MemoryError) as err:
         raise RunDirError(f"'{path}' is not a readable NumPy archive: {err}") from None
     return arrays
+
+
+def _named(members: list[zipfile.ZipInfo], names: Collection[str], path: Path,
+           limit: int) -> list[zipfile.ZipInfo]:
+    """The members called ``names`` (+ ".npy"), their sizes within ``limit`` together."""
+    by_name = {info.filename.removesuffix(".npy"): info for info in members}
+    missing = sorted(set(names) - set(by_name))
+    if missing:
+        raise RunDirError(f"'{path}' lacks the member {missing[0][:60]!r} its state names")
+    chosen = [by_name[name] for name in names]
+    total = sum(info.file_size for info in chosen)
+    if total > limit:
+        raise RunDirError(f"'{path}': the members its state names declare {total} bytes "
+                          f"together (at most {limit // MB} MB)")
+    return chosen
 
 
 def _member_name(info: zipfile.ZipInfo, path: Path, member_limit: int) -> str:

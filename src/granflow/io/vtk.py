@@ -13,6 +13,7 @@ import math
 import os
 import re
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -21,6 +22,7 @@ import meshio
 import numpy as np
 from meshio import vtu
 
+from granflow.config.messages import fmt_value
 from granflow.io.run_dir import RunDirError, atomic_file, atomic_write_text
 from granflow.io.untrusted import MB, parse_xml, read_bytes
 from granflow.io.vtu_check import VTU_LIMIT, check_vtu
@@ -34,8 +36,9 @@ _SNAPSHOT = re.compile(r"[A-Za-z0-9_-]{1,100}\.vtu")   # a file of fields/ itsel
 class VtkSeries:
     """A folder of ``fields_NNNNN.vtu`` files and ``fields.pvd`` listing them with times."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(self, folder: Path, place: Callable[[str], Path] | None = None) -> None:
         self.folder = folder
+        self.place = place or (lambda name: folder / name)   # where a file of it goes
         self.entries: list[tuple[float, str]] = []
 
     def write(self, t: float, points: np.ndarray, triangles: np.ndarray,
@@ -46,7 +49,7 @@ class VtkSeries:
         pdata = {k: _as_3d(v) for k, v in point_data.items()}
         mesh = meshio.Mesh(pts, [("triangle", triangles)], point_data=pdata,
                            cell_data={k: [np.asarray(v)] for k, v in cell_data.items()})
-        with atomic_file(self.folder / name) as tmp:
+        with atomic_file(self.place(name)) as tmp:
             meshio.write(tmp, mesh, file_format="vtu")
         self.entries.append((t, name))
         self._write_index()
@@ -57,7 +60,7 @@ class VtkSeries:
                          for t, f in self.entries)
         text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                 f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
-        atomic_write_text(self.folder / INDEX, text)
+        atomic_write_text(self.place(INDEX), text)
 
 
 def _as_3d(values: np.ndarray) -> np.ndarray:
@@ -92,7 +95,7 @@ class Fields:
         if name in self.cell_data:
             return self.cell_data[name]
         raise KeyError(f"no field {name!r}; fields: "
-                       f"{', '.join([*self.point_data, *self.cell_data])}")
+                       f"{fmt_value([*self.point_data, *self.cell_data])}")
 
 
 def snapshots(root: Path) -> list[tuple[float, str]]:
@@ -127,7 +130,7 @@ def read_snapshot(root: Path, t: float) -> Fields:
     nearest, name = min(found, key=lambda item: abs(item[0] - t))
     if not abs(nearest - t) <= 1e-6:
         raise ValueError(f"no snapshot at t = {t:g} s; snapshots at "
-                         f"{', '.join(f'{s:g}' for s, _ in found)} s")
+                         f"{fmt_value([float(f'{s:g}') for s, _ in found])} s")
     path = Path(root, FOLDER, name)
     data = read_bytes(path, VTU_LIMIT)
     check_vtu(data, path)

@@ -32,7 +32,8 @@ yield stress (one regularised rate instead of two in the assembled coefficient).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -118,6 +119,13 @@ class Hysteretic:
     @property
     def mu_start(self) -> float:
         return self.start.mu_s
+
+    def with_fields(self, read: Callable[[Any], Any]) -> Hysteretic:
+        """The law with its mobilisation passed through ``read`` (on a wall: the adjacent
+        triangle's), a number left as it is."""
+        if isinstance(self.mobilisation, int | float):
+            return self
+        return replace(self, mobilisation=read(self.mobilisation))
 
     def yield_stress_sq(self, strain_rate_sq: Any, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
         """kappa = sqrt(2) ((1 - s) mu_start + s mu_flow) [p]_+ (2.4), mu_flow = mu(I) at

@@ -9,7 +9,8 @@ and a mixture rule (the area-weighted stresses) in the few triangles the interfa
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from typing import Any
 
 from granflow.physics.ops import NUMPY_OPS, Ops
@@ -38,6 +39,12 @@ class TwoMaterials:
     def viscosity(self) -> Any:
         return blend(self.column.viscosity, self.layer.viscosity, self.fraction)
 
+    def with_fields(self, read: Callable[[Any], Any]) -> TwoMaterials:
+        """The law with the fields it holds per triangle (the share, and those of its two
+        laws) passed through ``read`` (on a wall: taken from the adjacent triangle)."""
+        return replace(self, column=_with_fields(self.column, read),
+                       layer=_with_fields(self.layer, read), fraction=read(self.fraction))
+
     @property
     def eps(self) -> float:
         return self.column.eps     # type: ignore[attr-defined,no-any-return]
@@ -51,3 +58,8 @@ class TwoMaterials:
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:
         return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
+
+
+def _with_fields(law: Rheology, read: Callable[[Any], Any]) -> Rheology:
+    with_fields = getattr(law, "with_fields", None)
+    return law if with_fields is None else with_fields(read)  # type: ignore[no-any-return]

@@ -42,7 +42,10 @@ from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import Simulation
+from granflow.simulation.state_spec import Share, instance, record
 from granflow.simulation.timestep import step_policy
+
+MESH = instance(ngs.Mesh, "a mesh", lambda mesh: {"cells": mesh.ne, "vertices": mesh.nv})
 
 
 @dataclass
@@ -83,6 +86,12 @@ class ColumnCollapse:
         return {"mesh": self.mesh, "fields": self.solver.save_history(),
                 "mover": self.mover.save_state(), **self.remesher.save_state(),
                 **self.simulation.callbacks.save_state()}
+
+    def share(self) -> Share:
+        """What the members of ``save_state`` may be (in a checkpoint): its parts' shares."""
+        return {"mesh": MESH, "fields": record(self.solver.history_share()),
+                "mover": record(ColumnMover.share), **ColumnRemesher.share,
+                **self.simulation.callbacks.shares()}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         """Continue from ``save_state``: solver and mover rebuilt on the saved mesh, then

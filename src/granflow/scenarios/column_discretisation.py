@@ -134,8 +134,9 @@ def discretise(config: Config, mesh: ngs.Mesh,
     mobilisation = MobilisationField(mesh) if hysteretic(config) else None
     fraction = (ngs.GridFunction(ngs.L2(mesh, order=0))
                 if layer_material(config) is not None else None)
-    # a plain L2 function is 0 on a boundary element: on the walls the adjacent triangle's
-    share = ngs.BoundaryFromVolumeCF(fraction) if fraction is not None else None
+    # a plain L2 function is 0 on a boundary element: the walls read the adjacent
+    # triangle's (fem/engine.py: read_on_walls), the volume the function itself
+    share = fraction
     fluidity = fluidity_field(config, mesh, coords=coordinates(config), fraction=share,
                               rough=BED if bnd.bed_fluidity == "zero" else "")
     rheology, density = _materials(config, mobilisation, fluidity, fraction, share)
@@ -176,8 +177,9 @@ def _materials(config: Config, mobilisation: MobilisationField | None,
                share: ngs.CoefficientFunction | None) -> tuple[Rheology, Density]:
     """One material: [material]'s law and density. A layer of its own: both blended with
     the indicator ``share``, a piecewise constant share of layer material per triangle, read
-    on the walls from the adjacent triangle (a plain L2 function is 0 on a boundary element,
-    which would give the Coulomb walls' load under the layer the column's law). A
+    on the walls from the adjacent triangle (``fem/engine.py: read_on_walls``: a plain L2
+    function is 0 on a boundary element, which would give the Coulomb walls' load under the
+    layer the column's law). A
     hysteretic friction reads the mobilisation field (``fem/mobilisation_field.py``), a
     nonlocal law the fluidity (``fem/fluidity.py``)."""
     eps = config.numerics.eps

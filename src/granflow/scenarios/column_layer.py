@@ -25,7 +25,7 @@ state and the erosion figure (``io/erosion_plots.py``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import ngsolve as ngs
 import numpy as np
@@ -40,6 +40,22 @@ from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.materials import layer_material
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.state_spec import (
+    REAL,
+    Share,
+    array,
+    may_lack,
+    number,
+    record,
+    tuple_of,
+)
+
+POSITIVE = number(0.0, above=True)
+MATERIAL: Share = {      # geometry/layer_material.py: LayerMaterial.save_state
+    "line": array(None, 2, rows=2), "markers": array("markers", 2), "origins": array("markers", 2),
+    "travel": array("markers"), "spacing": POSITIVE, "thickness": POSITIVE,
+    "marker_area": POSITIVE, "surgery_area": may_lack(REAL),
+    "heights": may_lack(array("markers")), "outline": may_lack(array(None, 2, rows=3))}
 
 Table = tuple[list[str], np.ndarray]
 COLUMNS = ("layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
@@ -65,6 +81,8 @@ class LayerTracking(Outputs):
 
     columns = COLUMNS
     figures = (erosion_figure,)
+    share: ClassVar[Share] = {"layer_material": may_lack(record(MATERIAL)),   # restore says
+                              "layer_largest": may_lack(tuple_of(REAL, REAL))}  # if missing
 
     config: Config
     current: ColumnDiscretisation

@@ -11,7 +11,7 @@ import copy
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
 import ngsolve as ngs
 import numpy as np
@@ -31,6 +31,15 @@ from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.state_spec import (
+    ANY_NUMBER,
+    Share,
+    dataclass_of,
+    list_of,
+    may_lack,
+    or_none,
+    record,
+)
 
 SECTION_OFFSETS = (-0.10, 0.0, 0.10)  # m, around X_g = the initial front (section 5.2)
 Table = tuple[list[str], np.ndarray]  # column names, rows
@@ -54,6 +63,10 @@ class ColumnMeasures(Outputs):
 
     figures = (collapse_figures,)
     animated = True
+    share: ClassVar[Share] = {
+        "history": record({name: list_of(ANY_NUMBER, length="history steps")
+                           for name in _history()}),
+        "inertial": may_lack(or_none(dataclass_of(InertialNumbers)))}
 
     config: Config
     current: ColumnDiscretisation

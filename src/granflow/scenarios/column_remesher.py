@@ -12,7 +12,7 @@ end (about 0) and the hydrostatic pressure at the same depth."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -33,6 +33,15 @@ from granflow.scenarios.column_discretisation import (
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
+from granflow.simulation.state_spec import (
+    COUNT,
+    REAL,
+    Share,
+    list_of,
+    may_lack,
+    number,
+    tuple_of,
+)
 
 
 @dataclass
@@ -51,6 +60,9 @@ class ColumnRemesher:
     mobilisation: MobilisationTracking | None = None   # a hysteretic friction's state
     lengthenings: int = 0          # times the meshed layer was lengthened (mesh.layer_ahead)
     added: float = 0.0             # the layer area (r-z: volume) they added
+    share: ClassVar[Share] = {     # its share of a checkpoint (``save_state``)
+        "remeshes": COUNT, "fresh_quality": number(0.0), "remesh_changes": list_of(REAL),
+        "remesh_restored": list_of(REAL), "layer_lengthened": may_lack(tuple_of(COUNT, REAL))}
 
     @property
     def stretch(self) -> LayerStretch:

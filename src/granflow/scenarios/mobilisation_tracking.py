@@ -19,7 +19,7 @@ mean of s over the mass (area-weighted; in r-z over the volume of revolution); t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
 import ngsolve as ngs
 import numpy as np
@@ -33,6 +33,7 @@ from granflow.physics.hysteresis import Relaxation, pick, relaxed
 from granflow.scenarios.materials import layer_material, relaxation
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
+from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack
 
 
 class Host(Protocol):
@@ -48,6 +49,8 @@ class MobilisationTracking(Outputs):
     """The loop's callback that owns the mobilisation's time (``t``: the state is s(t))."""
 
     columns = ("mobilised_fraction",)
+    share: ClassVar[Share] = {"mobilisation": may_lack(array("cells")),   # restore says
+                              "mobilisation_t": may_lack(TIME)}            # if missing
 
     config: Config
     current: Host
@@ -139,6 +142,6 @@ class MobilisationTracking(Outputs):
         if "mobilisation" not in state:
             raise ValueError("this checkpoint was written without a hysteretic friction; "
                              "run the case again from the start")
-        self.field.values[:] = np.asarray(state["mobilisation"], dtype=float)
+        assign(self.field.values, state["mobilisation"], "the checkpoint's mobilisation")
         self.t = float(state["mobilisation_t"])
         self._coordinates = self.current.mesh.ngmesh.Coordinates().copy()

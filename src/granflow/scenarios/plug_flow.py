@@ -31,6 +31,7 @@ from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
 from granflow.simulation.simulation import RunResult, Simulation
+from granflow.simulation.state_spec import Share, array, assign, record
 from granflow.simulation.timestep import step_policy
 
 
@@ -157,8 +158,13 @@ class PlugFlow:
                 "coordinates": self.mesh.ngmesh.Coordinates().copy(),
                 **self.simulation.callbacks.save_state()}
 
+    def share(self) -> Share:
+        """What the members of ``save_state`` may be (in a checkpoint): its parts' shares."""
+        return {"fields": record(self.solver.history_share()),
+                "coordinates": array(self.mesh.nv, 2), **self.simulation.callbacks.shares()}
+
     def restore_state(self, state: dict[str, Any]) -> None:
-        self.mesh.ngmesh.Coordinates()[:] = state["coordinates"]
+        assign(self.mesh.ngmesh.Coordinates(), state["coordinates"], "the saved vertices")
         self.solver.restore_history(state["fields"])
         self.simulation.callbacks.restore_state(state)
 

@@ -25,6 +25,7 @@ from granflow.io.replot import figure_config, figure_files
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.simulation.outputs import Figure
 from granflow.simulation.simulation import Simulation
+from granflow.simulation.state_spec import Share
 
 if TYPE_CHECKING:
     import ngsolve as ngs
@@ -40,6 +41,7 @@ class Problem(Protocol):
     simulation: Simulation
 
     def save_state(self) -> dict[str, Any]: ...
+    def share(self) -> Share: ...          # what the members of save_state may be
     def restore_state(self, state: dict[str, Any]) -> None: ...
 
 

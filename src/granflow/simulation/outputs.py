@@ -20,6 +20,7 @@ import numpy as np
 
 from granflow.simulation.callbacks import Callback, Simulation
 from granflow.simulation.outcomes import RunResult
+from granflow.simulation.state_spec import Share
 
 Table = tuple[list[str], np.ndarray]       # a profile: column names, rows
 Figure = Callable[[Any, Any], None]        # (run_dir, config): drawn from the run's files
@@ -31,6 +32,7 @@ class Outputs:
     columns: ClassVar[tuple[str, ...]] = ()     # its diagnostics.csv columns
     figures: ClassVar[tuple[Figure, ...]] = ()  # figures of its files (none without them)
     animated: ClassVar[bool] = False            # it gives the animation's frames
+    share: ClassVar[Share] = {}                 # its share of the checkpoint, member by member
 
     def __call__(self, sim: Simulation) -> None:
         """Its work after an accepted step (on its callback's schedule)."""
@@ -60,7 +62,7 @@ class Outputs:
         return {}
 
     def save_state(self) -> dict[str, Any]:
-        """Its share of the checkpoint (plain data)."""
+        """Its share of the checkpoint (plain data, each member declared in ``share``)."""
         return {}
 
     def restore_state(self, state: dict[str, Any]) -> None:
@@ -113,6 +115,13 @@ class Callbacks(dict[str, Callback]):
         out: dict[str, Any] = {}
         for part in self.parts():
             out |= part.save_state()
+        return out
+
+    def shares(self) -> Share:
+        """What the members of their shares of the checkpoint may be."""
+        out: dict[str, Any] = {}
+        for part in self.parts():
+            out |= part.share
         return out
 
     def restore_state(self, state: dict[str, Any]) -> None:

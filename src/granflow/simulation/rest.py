@@ -14,10 +14,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import ClassVar, Protocol
 
-if TYPE_CHECKING:
-    from granflow.simulation.simulation import Simulation
+from granflow.simulation.state_spec import FLAG, TIME, Share, or_none
+
+
+class Clock(Protocol):
+    """What the criterion reads of the loop (``Simulation``): its time."""
+
+    t: float
 
 
 @dataclass
@@ -29,6 +34,7 @@ class RestCriterion:
     duration: float
     moved: bool = False
     rest_since: float | None = field(default=None)
+    share: ClassVar[Share] = {"moved": FLAG, "rest_since": or_none(TIME)}   # of a checkpoint
 
     def save_state(self) -> dict[str, object]:
         return {"moved": self.moved, "rest_since": self.rest_since}
@@ -38,7 +44,7 @@ class RestCriterion:
         rest_since = state["rest_since"]
         self.rest_since = None if rest_since is None else float(rest_since)  # type: ignore[arg-type]
 
-    def __call__(self, sim: Simulation) -> str | None:
+    def __call__(self, sim: Clock) -> str | None:
         if self.flowing_fraction() > self.fraction:
             self.moved, self.rest_since = True, None
             return None

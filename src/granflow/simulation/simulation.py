@@ -30,11 +30,30 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
 from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure, RunResult
 from granflow.simulation.outputs import Callbacks
-from granflow.simulation.timestep import LocalError, StepPolicy, StepTooSmall
+from granflow.simulation.rest import RestCriterion
+from granflow.simulation.state_spec import (
+    COUNT,
+    TIME,
+    Share,
+    dataclass_of,
+    list_of,
+    mapping,
+    may_lack,
+    or_none,
+    record,
+    tuple_of,
+)
+from granflow.simulation.timestep import (
+    AdaptiveStep,
+    LocalError,
+    RampedStep,
+    StepPolicy,
+    StepTooSmall,
+)
 
 
 class FlowStep(Protocol):
@@ -137,6 +156,15 @@ class Simulation:
     interrupt: str | None = None         # set (by a signal handler) to end the run cleanly
     elapsed_before: float = 0.0          # s of wall time spent before a resume
     callbacks: Callbacks = field(default_factory=Callbacks)   # name -> Callback, in order
+    # its share of a checkpoint (``save_state``): what each member may be
+    share: ClassVar[Share] = {
+        "t": TIME, "step": COUNT, "dt": TIME, "rejected_steps": COUNT,
+        "nonlinear_iterations": COUNT, "momentum_solves": COUNT,
+        "skipped_remeshes": may_lack(COUNT), "history_restarts": may_lack(COUNT),
+        "rejections": mapping(COUNT), "wall_time_s": TIME,
+        "steps_policy": or_none(dataclass_of(AdaptiveStep, RampedStep)),
+        "stop_criteria": list_of(or_none(record(RestCriterion.share))),
+        "stall_window": may_lack(or_none(tuple_of(COUNT, TIME, mapping(COUNT))))}
     _start: float = field(default=0.0, repr=False)
     _rejections_in_row: int = field(default=0, repr=False)
     _remesh_error: str = field(default="", repr=False)
