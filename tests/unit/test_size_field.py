@@ -110,6 +110,6 @@ def test_overgrown_when_much_of_the_fine_mesh_has_come_to_rest() -> None:
     flowing = np.array([[0.2, 0.01], [0.3, 0.01], [0.45, 0.01], [0.55, 0.01]])
     assert not field.overgrown(flowing, heights, 0.8)
     assert field.overgrown(np.array([[0.55, 0.01]]), heights, 0.8)
-    bulk = SizeField(0.02, 0.04, moving=np.array([[0.2, 0.1], [0.3, 0.1], [0.5, 0.05]]))
+    bulk = SizeField(0.02, 0.04, margin=0.06, moving=np.array([[0.2, 0.1], [0.3, 0.1], [0.5, 0.05]]))
     assert not bulk.overgrown(np.array([[0.25, 0.1], [0.5, 0.06]]), heights, 0.8)
     assert bulk.overgrown(np.array([[0.5, 0.06]]), heights, 0.8)
