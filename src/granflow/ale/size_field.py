@@ -30,6 +30,7 @@ from scipy.spatial import cKDTree
 
 Heights = Callable[[np.ndarray], np.ndarray]   # height above the bed of points (n, 2)
 BedLevel = Callable[[np.ndarray], np.ndarray]  # the bed's z at abscissae x (n,)
+ON_BED = 1e-6   # relative to h_e: an edge whose ends are this close to the bed lies on it
 
 
 @dataclass(frozen=True)
@@ -64,31 +65,36 @@ class SizeField:
                       axis=1)
 
     def edge_size(self, heights: Heights) -> Callable[[np.ndarray, np.ndarray], float]:
-        """The target length of the boundary edge from p to q: ``layer_coarse`` in the layer
-        (both ends within 2 h_e of the bed), elsewhere the bulk's ``coarse``; the
-        restrictions (``restrictions``) refine them where the material moves (a straight
-        run of bed is one edge from the wall to the layer's end)."""
+        """The target length of the boundary edge from p to q. In the layer (both ends
+        within 2 h_e of the bed): an edge on the bed ``layer_coarse`` (a straight run of bed
+        is one edge from the wall to the layer's end: the restrictions refine it in the
+        windows), any other (the layer's free top, its end) ``layer_fine`` where it meets a
+        window, else ``layer_coarse``. Elsewhere the bulk's ``coarse`` (the restrictions
+        refine it around moving material)."""
         he = self.layer_top
         bulk = self.coarse if self.moving is not None else self.fine
 
         def size(p: np.ndarray, q: np.ndarray) -> float:
-            if he > 0 and heights(np.array([p, q])).max() <= 2 * he:
+            height = heights(np.array([p, q]))
+            if he <= 0 or height.max() > 2 * he:
+                return bulk
+            if height.max() <= ON_BED * he:
                 return self.layer_coarse
-            return bulk
+            lo, hi = min(p[0], q[0]), max(p[0], q[0])
+            meets = any(lo <= b and hi >= a for a, b in self.windows)
+            return self.layer_fine if meets else self.layer_coarse
         return size
 
     def restrictions(self, bed: BedLevel) -> np.ndarray:
-        """Points (x, z, h) where the mesh must be at most h: the bed and the layer's top
-        every half fine cell along each window, and the moving material's points."""
+        """Points (x, z, h) where the mesh must be at most h: the bed every half fine cell
+        along each window (Netgen grades the layer above it as it grades from a fine edge),
+        and the moving material's points."""
         out = []
         if self.layer_top > 0:
             step = 0.5 * self.layer_fine
             for a, b in self.windows:
                 x = np.linspace(a, b, max(2, int(np.ceil((b - a) / step)) + 1))
-                z = bed(x)
-                h = np.full_like(x, self.layer_fine)
-                out += [np.column_stack([x, z, h]),
-                        np.column_stack([x, z + self.layer_top, h])]
+                out.append(np.column_stack([x, bed(x), np.full_like(x, self.layer_fine)]))
         if self.moving is not None and self.coarse > self.fine and len(self.moving):
             out.append(np.column_stack([self.moving, np.full(len(self.moving), self.fine)]))
         return np.concatenate(out) if out else np.zeros((0, 3))
