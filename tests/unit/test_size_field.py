@@ -83,10 +83,12 @@ def test_a_meshed_layer_is_fine_at_the_front_and_coarse_where_it_rests(aspect: f
     stretch = LayerStretch(HE, aspect)
     fine = aspect * HE / 2
     field = SizeField(0.02, 0.02, fine, 4 * fine, HE, 0.06, np.array([[0.24, 0.40]]), None)
-    points = [(0, 0), (0.8, 0), (0.8, HE), (0.3, HE), (0.25, 0.2), (0, 0.2)]
-    labels = ["bed", "end", "surface", "surface", "surface", "wall"]
+    top = [(x, HE) for x in np.linspace(0.8, 0.3, 26)]     # a free surface's vertices
+    points = [(0, 0), (0.8, 0), *top, (0.25, 0.2), (0, 0.2)]
+    labels = ["bed", "end", *["surface"] * 27, "wall"]
     sizes = field.edge_size(heights)
-    edge_sizes = [sizes(np.array(p), np.array(points[(i + 1) % 6])) for i, p in enumerate(points)]
+    edge_sizes = [sizes(np.array(p), np.array(points[(i + 1) % len(points)]))
+                  for i, p in enumerate(points)]
     mesh = polygon_mesh(points, labels, field.maxh, edge_sizes, stretch=stretch,
                         restrict=field.restrictions(level))
     x, length = bed_edges(mesh)
@@ -110,6 +112,7 @@ def test_overgrown_when_much_of_the_fine_mesh_has_come_to_rest() -> None:
     flowing = np.array([[0.2, 0.01], [0.3, 0.01], [0.45, 0.01], [0.55, 0.01]])
     assert not field.overgrown(flowing, heights, 0.8)
     assert field.overgrown(np.array([[0.55, 0.01]]), heights, 0.8)
-    bulk = SizeField(0.02, 0.04, margin=0.06, moving=np.array([[0.2, 0.1], [0.3, 0.1], [0.5, 0.05]]))
+    fine_points = np.array([[0.2, 0.1], [0.3, 0.1], [0.5, 0.05]])
+    bulk = SizeField(0.02, 0.04, margin=0.06, moving=fine_points)
     assert not bulk.overgrown(np.array([[0.25, 0.1], [0.5, 0.06]]), heights, 0.8)
     assert bulk.overgrown(np.array([[0.5, 0.06]]), heights, 0.8)
