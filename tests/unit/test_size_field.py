@@ -34,21 +34,24 @@ def test_the_layer_is_fine_only_near_moving_material_close_to_it() -> None:
     xy = np.array([[0.40, 0.006], [0.45, 0.02], [0.10, 0.20], [0.70, 0.004]])
     moving = np.array([True, True, True, False])
     field = flow_size_field(FIELD, xy, moving, heights, end_x=0.8)
-    assert np.allclose(field.windows, [[0.34, 0.51]])
-    assert field.in_windows(np.array([0.35, 0.50])).all()
+    assert np.allclose(field.windows, [[0.34, 0.57]])   # two margins ahead
+    assert field.in_windows(np.array([0.35, 0.56])).all()
     assert not field.in_windows(np.array([0.10, 0.70])).any()
     assert field.moving.shape == (3, 2)          # the bulk is fine around all moving ones
 
 
 def test_uncovered_when_the_flow_comes_within_half_the_margin_of_coarse_cells() -> None:
-    field = flow_size_field(FIELD, np.array([[0.40, 0.0]]), np.array([True]), heights, 0.8)
-    assert not field.uncovered(np.array([[0.42, 0.003]]), heights, 0.8)
-    assert field.uncovered(np.array([[0.44, 0.003]]), heights, 0.8)   # window ends at 0.46
+    layer = SizeField(0.02, 0.02, 0.005, 0.02, HE, 0.06)     # the bulk keeps mesh.size
+    field = flow_size_field(layer, np.array([[0.40, 0.0]]), np.array([True]), heights, 0.8)
+    assert not field.uncovered(np.array([[0.48, 0.003]]), heights, 0.8)
+    assert field.uncovered(np.array([[0.50, 0.003]]), heights, 0.8)   # window ends at 0.52
+    assert field.uncovered(np.array([[0.36, 0.003]]), heights, 0.8)   # and starts at 0.34
     far_above = np.array([[0.40, 0.3]])            # the bulk: beyond half the margin
-    assert field.uncovered(far_above, heights, 0.8)
-    layer_only = flow_size_field(SizeField(0.02, 0.02, 0.005, 0.02, HE, 0.06),
-                                 np.array([[0.78, 0.0], [0.01, 0.0]]), np.array([True, True]),
-                                 heights, 0.8)
+    assert not field.uncovered(far_above, heights, 0.8)
+    bulk = flow_size_field(FIELD, np.array([[0.40, 0.0]]), np.array([True]), heights, 0.8)
+    assert bulk.uncovered(far_above, heights, 0.8)
+    layer_only = flow_size_field(layer, np.array([[0.78, 0.0], [0.01, 0.0]]),
+                                 np.array([True, True]), heights, 0.8)
     at_the_ends = np.array([[0.79, 0.003], [0.0, 0.001]])    # the end wall and the wall
     assert not layer_only.uncovered(at_the_ends, heights, 0.8)
     assert not layer_only.uncovered(far_above, heights, 0.8)   # the bulk keeps mesh.size

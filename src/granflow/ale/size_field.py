@@ -31,6 +31,8 @@ from scipy.spatial import cKDTree
 Heights = Callable[[np.ndarray], np.ndarray]   # height above the bed of points (n, 2)
 BedLevel = Callable[[np.ndarray], np.ndarray]  # the bed's z at abscissae x (n,)
 ON_BED = 1e-6   # relative to h_e: an edge whose ends are this close to the bed lies on it
+LEAD = 2.0      # margins the fine layer reaches ahead of the furthest moving material
+IDLE_MARGINS = 4.0   # margins of the fine layer at rest that call for a coarser mesh
 
 
 @dataclass(frozen=True)
@@ -119,15 +121,16 @@ class SizeField:
         return bool(distance.max() > 0.5 * self.margin)
 
     def overgrown(self, moving: np.ndarray, heights: Heights, end_x: float) -> bool:
-        """Whether much of the fine mesh now lies where the material rests: two margins of
-        the layer's windows (and at least half of them) away from material moving near it,
-        or half the bulk's fine points beyond the margin of moving material."""
+        """Whether much of the fine mesh now lies where the material rests: IDLE_MARGINS
+        margins of the layer's windows (and at least half of them) away from material moving
+        near it (so the windows about a creeping front, two margins and the lead long, never
+        count), or half the bulk's fine points beyond the margin of moving material."""
         if self.layer_top > 0 and len(self.windows):
             near = moving[heights(moving) <= self.layer_top + self.margin]
             needed = layer_windows(near, self.margin, 0.0, end_x)
             fine = float(np.sum(self.windows[:, 1] - self.windows[:, 0]))
             idle = fine - overlap(self.windows, needed)
-            if idle >= max(2 * self.margin, 0.5 * fine):
+            if idle >= max(IDLE_MARGINS * self.margin, 0.5 * fine):
                 return True
         if self.moving is None or self.coarse <= self.fine or not len(self.moving):
             return False
@@ -183,11 +186,13 @@ def flow_size_field(base: SizeField, xy: np.ndarray, moving: np.ndarray, heights
                     end_x: float) -> SizeField:
     """``base``'s sizes refitted to the flow: vertices ``xy`` (n, 2) with ``moving`` (n,)
     flags. The layer is fine within the margin of moving vertices less than the margin
-    above it (the layer beyond its meshed end ``end_x`` does not exist); the bulk around
-    every moving vertex."""
+    above it, and LEAD margins ahead of the furthest (the layer beyond its meshed end
+    ``end_x`` does not exist); the bulk around every moving vertex."""
     points = xy[moving]
     near = points[heights(points) <= base.layer_top + base.margin] if base.layer_top > 0 else (
         np.zeros((0, 2)))
     windows = layer_windows(near, base.margin, 0.0, end_x)
+    if len(windows):             # the flow goes on along the bed: fine further ahead of it
+        windows[-1, 1] = min(end_x, near[:, 0].max() + LEAD * base.margin)
     return SizeField(base.fine, base.coarse, base.layer_fine, base.layer_coarse,
                      base.layer_top, base.margin, windows, points.copy())

@@ -4,8 +4,8 @@ its flow: what the first mesh and every remesh are made with when ``mesh.adaptiv
 Moving material is where the speed of u^n at a vertex exceeds the flowing threshold (the
 cells that ``flowing_fraction`` counts), or where the shear rate sqrt(2) |Du| of a cell exceeds
 ``RATE`` (a layer sheared under a slow flow). At the start the column is at rest but about
-to collapse: its bulk is fine everywhere and the layer under it and ``margin`` ahead of its
-foot; every remesh then refits the field to the flow (``flow_size_field``)."""
+to collapse: its bulk is fine everywhere and the layer under it and ahead of its foot;
+every remesh then refits the field to the flow (``flow_size_field``)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.mesh_motion import vertex_values
-from granflow.ale.size_field import SizeField, flow_size_field
+from granflow.ale.size_field import LEAD, SizeField, flow_size_field
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.fem.sampling import cell_means, triangles
@@ -44,24 +44,20 @@ def bed_profile(config: Config) -> BedProfile:
 
 def initial_size_field(config: Config, end_x: float) -> SizeField | None:
     """The first mesh's field: the bulk fine everywhere, the layer fine from the wall to
-    ``margin`` beyond the column's foot (``geometry.width``), within its meshed end."""
+    LEAD margins beyond the column's foot (``geometry.width``), within its meshed end."""
     base = base_size_field(config)
     if base is None:
         return None
-    windows = np.array([[0.0, min(config.geometry.width + base.margin, end_x)]])
+    windows = np.array([[0.0, min(config.geometry.width + LEAD * base.margin, end_x)]])
     return SizeField(base.fine, base.coarse, base.layer_fine, base.layer_coarse,
                      base.layer_top, base.margin, windows, None)
 
 
-def moving_vertices(current: ColumnDiscretisation, sheared: bool = True) -> np.ndarray:
-    """Flags per vertex of the current mesh: moving material (module docstring); without
-    ``sheared`` by the speed alone (what the check at every step reads)."""
+def moving_vertices(current: ColumnDiscretisation) -> np.ndarray:
+    """Flags per vertex of the current mesh: moving material (module docstring)."""
     mesh = current.mesh
-    speed = np.linalg.norm(vertex_values(current.solver.previous.components[0]), axis=1)
-    moving = speed > FLOWING_SPEED
-    if not sheared:
-        return moving
     u = current.solver.previous.components[0]
+    moving = np.linalg.norm(vertex_values(u), axis=1) > FLOWING_SPEED
     rate, _ = cell_means(mesh, ngs.sqrt(2.0 * current.solver.coordinates.strain_rate_sq(u)))
     moving[np.unique(triangles(mesh)[rate > RATE])] = True
     return moving
@@ -80,7 +76,7 @@ def refit_due(config: Config, current: ColumnDiscretisation, field: SizeField) -
     """Whether the flow has come within half the margin of coarse cells (``uncovered``) or
     left much of the fine mesh at rest (``overgrown``)."""
     xy = current.mesh.ngmesh.Coordinates()
-    moving, heights = xy[moving_vertices(current, sheared=False)], bed_profile(config).height
+    moving, heights = xy[moving_vertices(current)], bed_profile(config).height
     end = current.mover.end_x
     return field.uncovered(moving, heights, end) or field.overgrown(moving, heights, end)
 
