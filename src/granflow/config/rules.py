@@ -250,6 +250,9 @@ def inert_keys(c: Config) -> dict[str, str]:
         if not c.mesh.adaptive:
             add("mesh.rest_coarsening mesh.layer_rest_coarsening mesh.flow_margin",
                 "mesh.adaptive = false (the mesh is uniform)")
+        elif g.erodible_thickness == 0 and c.mesh.rest_coarsening == 1:
+            add("mesh.adaptive mesh.flow_margin", "over a rigid bed with mesh.rest_coarsening "
+                "= 1 the mesh keeps mesh.size everywhere: there is nothing to adapt")
         if c.boundary.channel_width is None:
             add("boundary.side_wall_friction_deg", "boundary.channel_width = none (no side walls)")
         if g.shape == "rectangle":
