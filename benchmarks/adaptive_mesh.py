@@ -2,7 +2,7 @@
 collapses, and the erodible trapezoid against the finest layer resolution.
 
 Run: python benchmarks/adaptive_mesh.py [--scenarios trapezoid-erodible cylinder-erodible]
-         [--variants uniform adaptive] [--set key=value ...]
+         [--variants uniform adaptive ...] [--set key=value ...]
          [--out benchmarks/results/adaptive_mesh]
 
 Each variant (``VARIANTS``: its overrides) of each scenario runs to rest into
@@ -29,7 +29,10 @@ from common.runs import COLLAPSE_KEYS, flow_duration, run_or_continue, surfaces_
 from granflow.io.run_dir import atomic_write_text
 
 VARIANTS = {"uniform": ["mesh.adaptive=false", "surface_tension.length=mesh_size"],
-            "adaptive": []}
+            "adaptive": [],
+            # the adaptive mesh with the earlier tension, and with the bulk coarser at rest
+            "adaptive-mesh-size": ["surface_tension.length=mesh_size"],
+            "rest-coarsening-2": ["surface_tension.length=mesh_size", "mesh.rest_coarsening=2"]}
 KEYS = [*COLLAPSE_KEYS, "layer_displaced_area_m2", "layer_mobilised_area_max_m2",
         "erosion_depth_max_m", "surface_tension_steps", "adaptive_refits"]
 COMPARED = ["runout_m", "stop_time_s", "duration_s", "layer_displaced_area_m2",
