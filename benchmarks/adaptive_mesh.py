@@ -24,9 +24,8 @@ import argparse
 import json
 from pathlib import Path
 
+from common.results import report, write_json, write_markdown
 from common.runs import COLLAPSE_KEYS, flow_duration, run_or_continue, surfaces_m
-
-from granflow.io.run_dir import atomic_write_text
 
 VARIANTS = {"uniform": ["mesh.adaptive=false", "surface_tension.length=mesh_size"],
             "adaptive": [],
@@ -126,14 +125,13 @@ def main() -> None:
             summary = run_or_continue(scenario, [*sets, *args.set], runs[name])
             rows[name] = {k: summary.get(k) for k in KEYS} | {
                 "duration_s": flow_duration(runs[name])}
-            print(scenario, name, json.dumps(rows[name]), flush=True)
+            report(f"{scenario} {name}", rows[name])
         results["runs"][scenario] = rows
         results["changes"][scenario] = compare(rows, runs)
         if scenario == "trapezoid-erodible" and not args.set:
             results["reference"] = against_reference(rows)
-        atomic_write_text(args.out / "adaptive_mesh.json", json.dumps(results, indent=2))
-    atomic_write_text(args.out / "adaptive_mesh.md", table(results))
-    print(table(results))
+        write_json(args.out / "adaptive_mesh.json", results)
+    write_markdown(args.out / "adaptive_mesh.md", table(results), show=True)
 
 
 if __name__ == "__main__":

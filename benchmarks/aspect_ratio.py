@@ -31,14 +31,14 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 from pathlib import Path
 
 import numpy as np
 from common.fits import power_fit
+from common.results import write_json, write_markdown
 from common.studies import run_study
 
-from granflow.io.run_dir import atomic_file, atomic_write_text
+from granflow.io.run_dir import atomic_file
 from granflow.sweep import load_sweep
 
 WIDTH = 0.1   # l0 of the studies (m)
@@ -101,10 +101,9 @@ def analyse(out: Path, study: str) -> dict:
                                                lube_height(a), stop, strict=True)]
     lines.append("")
     lines += [f"fit {name}: {k:.3f} a^{n:.3f}" for name, (k, n) in fits.items()]
-    atomic_write_text(out / "aspect_ratio.md", "\n".join(lines) + "\n")
-    atomic_write_text(out / "aspect_ratio.json", json.dumps(result, indent=2))
+    write_markdown(out / "aspect_ratio.md", lines, show=True)
+    write_json(out / "aspect_ratio.json", result)
     plot(out, study, a, runout, height, fits["runout_all"])
-    print("\n".join(lines))
     return result
 
 

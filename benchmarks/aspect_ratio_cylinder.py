@@ -39,10 +39,10 @@ from pathlib import Path
 
 import numpy as np
 from common.fits import power_fit
+from common.results import report, write_json, write_markdown
 from common.studies import run_study
 
 from granflow.io.plots import save_figure
-from granflow.io.run_dir import atomic_write_text
 
 STUDY = "aspect-ratio-cylinder"
 # study -> (its material in the figure's title, the plane-strain study beside it)
@@ -96,8 +96,8 @@ def resolution(out: Path, study: str = STUDY, heights: tuple[float, ...] = (0.1,
                      "runout_change": fine["runout_m"] / float(c["runout_m"]) - 1,
                      "height_change": fine["wall_height_m"] / float(c["wall_height_m"]) - 1,
                      "n_triangles": fine["n_triangles"], "wall_time_s": fine["wall_time_s"]})
-        print(json.dumps(rows[-1]), flush=True)
-    atomic_write_text(out / "resolution.json", json.dumps(rows, indent=2))
+        report("", rows[-1])
+    write_json(out / "resolution.json", rows)
     return {"rows": rows}
 
 
@@ -142,10 +142,9 @@ def analyse(out: Path, study: str = STUDY) -> dict:
                                                 strict=True)]
     lines.append("")
     lines += [f"fit {name}: {k:.3f} a^{n:.3f}" for name, (k, n) in fits.items()]
-    atomic_write_text(out / "aspect_ratio.md", "\n".join(lines) + "\n")
-    atomic_write_text(out / "aspect_ratio.json", json.dumps(result, indent=2))
+    write_markdown(out / "aspect_ratio.md", lines, show=True)
+    write_json(out / "aspect_ratio.json", result)
     plot(out, study, a, runout, height, fits["runout_all"])
-    print("\n".join(lines))
     return result
 
 

@@ -15,12 +15,12 @@ Then the choice of r: iterations of the first step (dZ = 0.25, dt = 1.25e-2) for
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
+from common.results import report, write_results
+
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.plug_flow import build_plug_flow
 
 METHODS = {
@@ -53,7 +53,7 @@ def main() -> None:
     rows = []
     for name, extra in METHODS.items():
         rows.append({"method": name, **cell(args.dz, args.dt, extra)})
-        print(json.dumps(rows[-1]), flush=True)
+        report("", rows[-1])
     viscosity = load_config("plug-flow").material.viscosity
     choice = []
     for factor in (0.2, 2.0, 20.0, 200.0):
@@ -62,7 +62,7 @@ def main() -> None:
                                       f"numerics.al_r={r!r}", "numerics.max_iterations=5000"],
                       t_end=1.25e-2)
         choice.append({"r_over_viscosity": factor, **result})
-        print(json.dumps(choice[-1]), flush=True)
+        report("", choice[-1])
     lines = [f"Plug flow, dZ = {args.dz}, dt = {args.dt}, t = 0.2 s, tol = 1e-7:", "",
              "| method | relative L2 error | nonlinear iterations | wall (s) |",
              "|---|---|---|---|"]
@@ -72,10 +72,8 @@ def main() -> None:
               "| r / viscosity | iterations | status |", "|---|---|---|"]
     lines += [f"| {c['r_over_viscosity']:g} | {c['iterations']} | {c['status']} |"
               for c in choice]
-    atomic_write_text(args.out / "augmented_lagrangian.json",
-                      json.dumps({"cells": rows, "r_choice": choice}, indent=2))
-    atomic_write_text(args.out / "augmented_lagrangian.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_results(args.out, "augmented_lagrangian", {"cells": rows, "r_choice": choice}, lines,
+                  show=True)
 
 
 if __name__ == "__main__":

@@ -10,19 +10,17 @@ fixed point (3.2) ("picard": the primal-dual correction is plane strain only), t
 tolerances and steps, run to rest, alternately (P, A, P, A, ...). The two flows differ
 (a cylinder spreads in r and stops sooner), so beside the whole-run wall-time ratio A/P the
 table gives the wall time per nonlinear iteration, which compares the work of one
-iteration on the two forms. Writes OUT/cost.json and prints a table.
+iteration on the two forms. The runs go to OUT/runs/; writes OUT/cost.json and prints a table.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 from pathlib import Path
 
+from common.results import report, write_json
 from common.runs import run_summary
-
-from granflow.io.run_dir import atomic_write_text
 
 CASES = {"P": ("rectangle-rigid", ["geometry.width=0.1", "numerics.linearization=picard"]),
          "A": ("cylinder-rigid", [])}
@@ -39,11 +37,11 @@ def main() -> None:
     for k in range(args.repeat):
         for label, (scenario, extra) in CASES.items():
             summary = run_summary(scenario, [*extra, *COMMON, f"mesh.size={args.size!r}"],
-                                  args.out / f"{label}{k}")
+                                  args.out / "runs" / f"{label}{k}")
             runs[label].append(summary)
-            print(label, k, json.dumps({x: summary[x] for x in (
+            report(f"{label} {k}", {x: summary[x] for x in (
                 "status", "steps", "nonlinear_iterations", "wall_time_s", "stop_time_s",
-                "runout_m", "n_triangles")}), flush=True)
+                "runout_m", "n_triangles")})
     med = {label: statistics.median(r["wall_time_s"] for r in rows)
            for label, rows in runs.items()}
     per_it = {label: statistics.median(r["wall_time_s"] / r["nonlinear_iterations"]
@@ -52,8 +50,7 @@ def main() -> None:
               "wall_time_median_s": med, "wall_time_per_iteration_median_s": per_it,
               "ratio_A_over_P": med["A"] / med["P"],
               "ratio_per_iteration_A_over_P": per_it["A"] / per_it["P"]}
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "cost.json", json.dumps(result, indent=2))
+    write_json(args.out / "cost.json", result)
     print(f"| run | triangles | steps | iterations | wall time (s, median of {args.repeat}) "
           "| per iteration (ms) |\n|---|---|---|---|---|---|")
     for label, rows in runs.items():

@@ -21,9 +21,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from common.results import write_markdown  # noqa: E402
 
 from granflow.io.plots import save_figure
-from granflow.io.run_dir import atomic_write_text
 
 SHAPES = ["trapezoid-rigid", "rectangle-rigid"]
 RUNS = [("paper", "default mesh, dt_max 1e-4"), ("fine-mesh", "mesh size / 2"),
@@ -88,9 +88,7 @@ def main() -> None:
         (out / "figures").mkdir(exist_ok=True)
         save_figure(fig, out / "figures" / f"convergence_{shape}.png", dpi=120)
         plt.close(fig)
-    table = "\n".join(lines)
-    print(table)
-    atomic_write_text(out / "convergence.md", table + "\n")
+    write_markdown(out / "convergence.md", lines, show=True)
 
 
 if __name__ == "__main__":

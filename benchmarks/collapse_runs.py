@@ -17,9 +17,10 @@ import argparse
 import json
 from pathlib import Path
 
+from common.results import write_json
 from common.runs import COLLAPSE_KEYS, run_variant, surfaces_m
 
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 
 def compare(before: str, after: str, scenarios: list[str], out: Path) -> dict:
@@ -31,7 +32,7 @@ def compare(before: str, after: str, scenarios: list[str], out: Path) -> dict:
                    for tag, root in ((before, first), (after, second))}
         result[name] = figures | {"free_surfaces": surfaces_m(first, second)}
         print(name, json.dumps(result[name], indent=1), flush=True)
-    atomic_write_text(out / f"{before}-vs-{after}.json", json.dumps(result, indent=2))
+    write_json(out / f"{before}-vs-{after}.json", result)
     return result
 
 

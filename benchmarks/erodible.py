@@ -19,13 +19,13 @@ import json
 from pathlib import Path
 
 import numpy as np
+from common.results import read_results, report, write_json
 
 import granflow
 from granflow.config import load_config
 from granflow.diagnostics.compare import surface_distance
 from granflow.io import profiles
 from granflow.io.plots import save_figure
-from granflow.io.run_dir import atomic_write_text
 
 VARIANTS: dict[str, tuple[str, list[str], str | None]] = {
     # name: (scenario, overrides, reference variant for the surface comparison)
@@ -82,7 +82,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     store = args.out / "erodible.json"
-    results = json.loads(store.read_text()) if store.exists() else {}
+    results = read_results(store)
     for name in args.variants:
         scenario, overrides, _ = VARIANTS[name]
         run = args.out / "runs" / name
@@ -93,7 +93,7 @@ def main() -> None:
         results[name] = {k: summary.get(k) for k in KEYS} | {
             "scenario": scenario, "overrides": overrides,
             "bulk_stop_1pct_s": bulk_stop(run)}
-        print(name, json.dumps(results[name]), flush=True)
+        report(name, results[name])
     for name, row in results.items():
         ref = VARIANTS[name][2]
         a, b = surfaces(args.out / "runs" / str(ref)), surfaces(args.out / "runs" / name)
@@ -104,7 +104,7 @@ def main() -> None:
             row["surface_vs_" + ref + "_mm"] = {
                 f"{t:g}": [round(1e3 * x, 3) for x in surface_distance(a[t], b[t])]
                 for t in TIMES if t in a and t in b}
-    atomic_write_text(store, json.dumps(results, indent=2))
+    write_json(store, results)
     plot(args.out)
 
 

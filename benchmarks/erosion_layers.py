@@ -22,12 +22,10 @@ reference and writes OUT/against_reference.json.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
+from common.results import read_results, report, write_json, write_markdown
 from common.runs import collected, flow_duration, run_or_continue
-
-from granflow.io.run_dir import atomic_write_text
 
 KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_triangles",
         "remeshes", "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
@@ -131,8 +129,7 @@ def against(dirs: list[Path], results: dict[str, dict], slope: float, out: Path)
     isotropic = [r for r in results.values() if r.get("slope") == slope
                  and r.get("aspect", 1.0) == 1 and r["status"] in ("completed", "stopped")]
     ref = max(isotropic, key=lambda r: r["cells"])
-    found = json.loads((out / "against_reference.json").read_text()) if (
-        out / "against_reference.json").is_file() else {}
+    found = read_results(out / "against_reference.json")
     for folder in dirs:
         summary = collected(folder)
         if summary is None:
@@ -143,8 +140,8 @@ def against(dirs: list[Path], results: dict[str, dict], slope: float, out: Path)
                               "n_triangles": row["n_triangles"], "relative": rel,
                               "within": all(abs(rel.get(k, 1.0)) <= t
                                             for k, t in ACCURACY.items())}
-        print(folder.name, json.dumps(found[folder.name]), flush=True)
-    atomic_write_text(out / "against_reference.json", json.dumps(found, indent=2))
+        report(folder.name, found[folder.name])
+    write_json(out / "against_reference.json", found)
     return found
 
 
@@ -160,7 +157,7 @@ def main() -> None:
     parser.add_argument("--against", type=Path, nargs="+", default=[], metavar="RUN_DIR")
     args = parser.parse_args()
     results_file = args.out / "erosion_layers.json"
-    results = json.loads(results_file.read_text()) if results_file.is_file() else {}
+    results = read_results(results_file)
     if args.against:
         against(args.against, results, args.slopes[0], args.out)
         return
@@ -179,10 +176,10 @@ def main() -> None:
         else:
             row = run_case(args.scenario, overrides, out)
         results[name] = row | {"slope": slope, "cells": cells, "aspect": aspect}
-        print(name, json.dumps(results[name]), flush=True)
-        atomic_write_text(results_file, json.dumps(results, indent=2))
-        atomic_write_text(args.out / "erosion_layers.md",
-                          table(results) + "\n" + against_reference(results))
+        report(name, results[name])
+        write_json(results_file, results)
+        write_markdown(args.out / "erosion_layers.md",
+                       table(results) + "\n" + against_reference(results))
     print(table(results) + "\n" + against_reference(results))
 
 

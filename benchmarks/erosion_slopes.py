@@ -31,17 +31,16 @@ observed one). The experiments' column is 20 cm long and 14 cm high (the `rectan
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from common.results import read_results, report, write_json, write_markdown  # noqa: E402
 from common.runs import FINISHED, collected, flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
-from granflow.io.run_dir import atomic_write_text  # noqa: E402
 
 GLASS_BEADS = ["material.rheology=mu-i", "material.friction_angle_deg=20.9",
                "material.mu_2_deg=32.76", "material.i0=0.279",
@@ -299,7 +298,7 @@ def main() -> None:
     parser.add_argument("--collect", action="store_true")
     args = parser.parse_args()
     store = args.out / "erosion_slopes.json"
-    results = json.loads(store.read_text()) if store.is_file() else {}
+    results = read_results(store)
     for variant in args.variants:
         for shape in args.shapes:
             for slope in args.slopes:
@@ -321,11 +320,10 @@ def main() -> None:
                                   results.get(name))
                     results[name] = row | {"variant": variant, "shape": shape,
                                            "slope": slope, "he": he, "cells": args.cells}
-                    print(name, json.dumps(results[name]), flush=True)
-                    atomic_write_text(store, json.dumps(results, indent=2))
-                    atomic_write_text(args.out / "erosion_slopes.md", table(results))
-                    atomic_write_text(args.out / "erosion_slopes_ratios.md",
-                                      ratio_table(results))
+                    report(name, results[name])
+                    write_json(store, results)
+                    write_markdown(args.out / "erosion_slopes.md", table(results))
+                    write_markdown(args.out / "erosion_slopes_ratios.md", ratio_table(results))
     figure(results, args.out / "erosion_slopes.png")
     print(table(results))
 

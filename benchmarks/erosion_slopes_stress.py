@@ -20,14 +20,13 @@ basal 5 mm. OUT/erosion_slopes_stress.json.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import tomllib
 from pathlib import Path
 
 import numpy as np
+from common.results import write_json
 
-from granflow.io.run_dir import atomic_write_text
 from granflow.io.vtk import read_snapshot, snapshots
 
 RUNS = [f"hysteretic/rectangle-{he}mm-{slope}" for slope in (22, 16)
@@ -82,7 +81,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_slopes"))
     args = parser.parse_args()
     results = {name: band_figures(args.out / "runs" / name) for name in args.runs}
-    atomic_write_text(args.out / "erosion_slopes_stress.json", json.dumps(results, indent=2))
+    write_json(args.out / "erosion_slopes_stress.json", results)
     for name, rows in results.items():
         print(name)
         for r in rows:

@@ -20,17 +20,16 @@ trapezoid's run over its 5.85 m layer before; py-spy). Both must give the same p
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import time
 from pathlib import Path
 
 import numpy as np
+from common.results import report, write_json
 
 from granflow.ale.free_surface import BoundaryChain, pairs_cross, segments_intersect
 from granflow.ale.transfer import _edge_midpoints, clamp_all_pairs, clamp_inside
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.column import build_column
 
 SLOPES = ["boundary.normal_load=reaction", "geometry.slope_deg=22.0",
@@ -91,9 +90,8 @@ def main() -> None:
                           "ratio": t_old / t_new}
         row["clamp"] = clamping(mesh)
         results[name] = row
-        print(name, json.dumps(row), flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "fold_checks.json", json.dumps(results, indent=2))
+        report(name, row)
+    write_json(args.out / "fold_checks.json", results)
 
 
 if __name__ == "__main__":

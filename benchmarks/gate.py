@@ -16,13 +16,14 @@ instantaneous release and the time the gate clears the column; OUT/gate.md the t
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
+
+from common.results import read_results, report, write_json, write_markdown
 
 import granflow
 from granflow.config import load_config
 from granflow.geometry.scene import build_scene
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 CASES = {
     "default": ("trapezoid-rigid", ["time.t_end=2.0"]),   # a gated mass rests after 1.02 s
@@ -59,7 +60,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/gate"))
     args = parser.parse_args()
     store = args.out / "gate.json"
-    results = json.loads(store.read_text()) if store.exists() else {}
+    results = read_results(store)
     for case in args.cases:
         scenario, base = CASES[case]
         for release, door in RELEASES.items():
@@ -79,9 +80,9 @@ def main() -> None:
             for r in results.values():
                 if r["case"] == case and instant is not None:
                     r["runout_change"] = r["runout_m"] / instant["runout_m"] - 1.0
-            print(f"{case} {release}", json.dumps(entry), flush=True)
-            atomic_write_text(store, json.dumps(results, indent=2))
-            atomic_write_text(args.out / "gate.md", table(results))
+            report(f"{case} {release}", entry)
+            write_json(store, results)
+            write_markdown(args.out / "gate.md", table(results))
     print(table(results))
 
 

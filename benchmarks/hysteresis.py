@@ -29,18 +29,17 @@ Each study's differences are taken to its last (finest) level; the JSON holds ev
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
+from common.results import read_results, report, write_json
 
 import granflow
 from granflow.config import load_config
 from granflow.fem.sampling import cell_means
-from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.column import build_column
 from granflow.simulation.callbacks import AtTimes
 
@@ -81,7 +80,7 @@ def measure(overrides: list[str], out: Path) -> dict:
     if "mobilised_fraction" in rows.columns:
         result |= {"mobilised_fraction": float(rows["mobilised_fraction"].iloc[-1]),
                    "mobilised_fraction_mean": mean("mobilised_fraction")}
-    print(json.dumps(result), flush=True)
+    report("", result)
     return result
 
 
@@ -112,7 +111,7 @@ def threshold() -> dict:
                      "slow_q99": float(np.quantile(slow, 0.99)),
                      "fast_q05": float(np.quantile(fast, 0.05)) if len(fast) else None,
                      "fast_median": float(np.median(fast)) if len(fast) else None})
-        print(json.dumps(rows[-1]), flush=True)
+        report("", rows[-1])
 
     sim = problem.simulation
     sim.observers = [*sim.observers, AtTimes(RATE_TIMES, look)]
@@ -130,13 +129,13 @@ def main(argv: list[str]) -> None:
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     path = args.out / "hysteresis.json"
-    results = json.loads(path.read_text()) if path.is_file() else {}
+    results = read_results(path)
     if "constant" not in results:
         results["constant"] = measure([], args.out / "runs" / "constant")
         results["hysteretic"] = measure(HYSTERETIC, args.out / "runs" / "hysteretic")
     for name in args.studies:
         results[name] = threshold() if name == "threshold" else study(name, args.out / "runs")
-        atomic_write_text(path, json.dumps(results, indent=2))
+        write_json(path, results)
 
 
 if __name__ == "__main__":

@@ -21,16 +21,16 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
 from pathlib import Path
 
 import numpy as np
+from common.results import report, write_results
 
 import granflow
 from granflow.config import load_config
 from granflow.io import profiles
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 from granflow.physics import MuI
 from granflow.reference.incline import bagnold_profile
 from granflow.scenarios.materials import build_rheology
@@ -98,7 +98,7 @@ def main() -> None:
                    "steps": s["steps"], "iterations": s["nonlinear_iterations"],
                    "wall_time_s": s["wall_time_s"]}
             results.append(row)
-            print(json.dumps(row), flush=True)
+            report("", row)
     lines = ["| case | cells across h | dt (s) | L2 error vs exact steady profile | "
              "L2 error vs Bagnold (eta = 0) | steadiness | Newton iterations / steps | wall (s) |",
              "|---|---|---|---|---|---|---|---|"]
@@ -107,9 +107,7 @@ def main() -> None:
         lines.append(f"| {r['case']} | {r['cells']} | {r['dt']:g} | {r['error_exact']:.2e} | "
                      f"{bag} | {r['steadiness']:.0e} | {r['iterations']} / {r['steps']} | "
                      f"{r['wall_time_s']:.1f} |")
-    atomic_write_text(args.out / "incline.json", json.dumps(results, indent=2))
-    atomic_write_text(args.out / "incline.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_results(args.out, "incline", results, lines, show=True)
 
 
 if __name__ == "__main__":

@@ -19,10 +19,10 @@ import json
 from pathlib import Path
 
 import numpy as np
+from common.results import report, write_json
 
 import granflow
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 
 COLUMN = ["geometry.width=0.1", "geometry.height=0.05", "geometry.slope_deg=10.0",
           "boundary.normal_load=reaction", "mesh.cells_across=8", "time.output_times=[]",
@@ -64,9 +64,8 @@ def main() -> None:
                                                  f"time.t_end={args.t_end!r}"])
         run_dir = granflow.run(config, out=args.out / "runs" / guess, force=True)
         results[guess] = measure(run_dir.root)
-        print(guess, json.dumps(results[guess]), flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "initial_guess.json", json.dumps(results, indent=2))
+        report(guess, results[guess])
+    write_json(args.out / "initial_guess.json", results)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ that table and writes the per-step and per-iteration records as JSON.
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import time
 from collections import Counter
@@ -24,10 +23,10 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
+from common.results import write_json
 
 from granflow.config import load_config
 from granflow.fem import nonlinear
-from granflow.io.run_dir import atomic_write_text
 from granflow.runner import build_problem
 
 
@@ -173,7 +172,7 @@ def main() -> None:
 
 def write(out: Path, result: dict) -> None:
     """The record as JSON (also called while the run goes on, every 50 steps)."""
-    atomic_write_text(out, json.dumps(result, indent=1))
+    write_json(out, result, indent=1)
 
 
 if __name__ == "__main__":

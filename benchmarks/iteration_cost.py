@@ -26,12 +26,12 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
+from common.results import write_json
 from ngsolve.krylovspace import GMResSolver
 
 import granflow.fem.nonlinear as nonlinear
 from granflow.config import load_config
 from granflow.fem.forms import _symbols
-from granflow.io.run_dir import atomic_write_text
 from granflow.runner import build_problem
 
 
@@ -171,8 +171,7 @@ def main() -> None:
         "window_s": args.window,
     }
     print(json.dumps(result, indent=1))
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / f"{args.scenario}_t{args.at:g}.json", json.dumps(result, indent=2))
+    write_json(args.out / f"{args.scenario}_t{args.at:g}.json", result)
 
 
 if __name__ == "__main__":

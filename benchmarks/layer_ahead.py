@@ -20,12 +20,12 @@ mesh, so the differences are to be read against the mesh's own (the layer conver
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
+from common.results import report, write_json, write_markdown
 from common.runs import distances_mm, run_summary
 
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 CASE = ["boundary.normal_load=reaction", "numerics.mesh_velocity=elastic",
         "surface_tension.enabled=true", "mesh.layer_cells=2", "material.rheology=mu-i",
@@ -55,7 +55,7 @@ def main() -> None:
                               roots[name])
         results[name] = {k: RunDir.summary(roots[name]).get(k) for k in KEYS} | {
             "status": summary["status"], "overrides": [*common, f"mesh.layer_ahead={ahead!r}"]}
-        print(name, json.dumps(results[name]), flush=True)
+        report(name, results[name])
     reference = f"ahead-{args.ahead[0]:g}"
     for name, r in results.items():
         r["time_ratio"] = r["wall_time_s"] / results[reference]["wall_time_s"]
@@ -64,7 +64,7 @@ def main() -> None:
                                                  common_extent=True)
             r["layer_line_mm"] = distances_mm(roots[reference], roots[name], "layer_line",
                                                common_extent=True)
-    atomic_write_text(args.out / "layer_ahead.json", json.dumps(results, indent=2))
+    write_json(args.out / "layer_ahead.json", results)
     lines = [f"Rectangle on 22 deg over a 5 mm layer (mu(I), 2 cells), to t = {args.t_end} s; "
              f"distances from `{reference}` at t = {', '.join(map(str, times))} s "
              "(mean / largest, mm).", "",
@@ -82,8 +82,7 @@ def main() -> None:
             f"{r.get('layer_meshed_end_m') or 3.21:.3f} | {r['runout_m']:.4f} | "
             f"{r['column_front_m']:.4f} | {r['layer_displaced_area_m2']:.3e} | "
             f"{surface or '-'} | {line or '-'} |")
-    atomic_write_text(args.out / "layer_ahead.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_markdown(args.out / "layer_ahead.md", lines, show=True)
 
 
 if __name__ == "__main__":

@@ -17,12 +17,12 @@ OUT/layer_tracking.json holds every run's measures, OUT/layer_tracking.md the ta
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
+from common.results import report, write_results
+
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 from granflow.scenarios.column import build_column
 
 BASE = ["mesh.size=0.04", "geometry.erodible_thickness=0.01", "mesh.layer_cells=2",
@@ -54,17 +54,14 @@ def main() -> None:
     results = {}
     for name, overrides in CASES.items():
         results[name] = measure(overrides) | {"overrides": overrides}
-        print(name, json.dumps(results[name]), flush=True)
+        report(name, results[name])
     lines = ["| case | triangles | steps | layer area drift | displaced layer (m^2) | "
              "erosion depth (mm) | column front (m) |", "|---|---|---|---|---|---|---|"]
     for name, r in results.items():
         lines.append(f"| {name} | {r['triangles']} | {r['steps']} | "
                      f"{r['layer_area_drift']:+.2e} | {r['layer_displaced_area']:.3g} | "
                      f"{1e3 * r['erosion_depth_max']:.1f} | {r['column_front_x']:.4f} |")
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "layer_tracking.json", json.dumps(results, indent=2))
-    atomic_write_text(args.out / "layer_tracking.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_results(args.out, "layer_tracking", results, lines, show=True)
 
 
 if __name__ == "__main__":

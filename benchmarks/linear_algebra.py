@@ -16,7 +16,6 @@ prints a table and writes JSON: what one iteration costs and which solver is fas
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 import timeit
@@ -27,10 +26,10 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from common.results import write_json
 
 from granflow.config import load_config
 from granflow.fem.linalg import pardiso_available
-from granflow.io.run_dir import atomic_write_text
 from granflow.runner import build_problem
 
 
@@ -93,8 +92,7 @@ def main(argv: list[str]) -> None:
     args = parser.parse_args(argv)
     ngs.SetNumThreads(1)
     result = timings(args.t, args.repeat)
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "lu.json", json.dumps(result, indent=2))
+    write_json(args.out / "lu.json", result)
     print(f"{result['unknowns']} unknowns, {result['triangles']} triangles, "
           f"{result['nonzeros']} nonzeros at t = {result['t']} s")
     for name, value in result["ms"].items():

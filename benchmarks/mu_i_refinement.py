@@ -20,11 +20,11 @@ import json
 from pathlib import Path
 
 from common.cases import SCENARIO, SETUP
+from common.results import report, write_json, write_markdown
 from common.runs import distances_mm
 
 import granflow
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 
 LAWS = {"drucker-prager": [], "mu-i": ["material.rheology=mu-i"]}
 KEYS = ["status", "stop_time_s", "runout_m", "steps", "linear_solves", "wall_time_s",
@@ -63,7 +63,7 @@ def main() -> None:
                     "stop_time_s": row["stop_time_s"] - before["stop_time_s"],
                     "free_surface_mean_max_mm": surfaces}
             rows[law].append(row)
-            print(law, level, json.dumps(row), flush=True)
+            report(f"{law} {level}", row)
     lines = [f"{args.shape}, section 5.2 set-up, mesh size h, h/2, h/4:", "",
              "| law | mesh size (m) | triangles | runout (m) | stop (s) | change of runout "
              "(mm) | change of stop (s) | free surfaces vs coarser, worst mean / max (mm) |",
@@ -80,10 +80,8 @@ def main() -> None:
                 f"{r['stop_time_s']:.3f} | "
                 f"{'-' if not change else format(change['runout_mm'], '+.1f')} | "
                 f"{'-' if not change else format(change['stop_time_s'], '+.3f')} | {worst} |")
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "refinement.json", json.dumps(rows, indent=2))
-    atomic_write_text(args.out / "refinement.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_json(args.out / "refinement.json", rows)
+    write_markdown(args.out / "refinement.md", lines, show=True)
 
 
 if __name__ == "__main__":

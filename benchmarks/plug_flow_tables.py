@@ -8,11 +8,11 @@ the figures. Expect roughly 15-30 minutes on one core.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
-from granflow.io.run_dir import atomic_write_text
+from common.results import write_json
+
 from granflow.verify import run_cell, verify_plug_flow
 
 PAPER_ITERATIONS = {1e-2: 824, 1e-4: 2958, 1e-6: 5086, 1e-8: 5272}
@@ -31,7 +31,7 @@ def main() -> None:
         rows.append({"eps": eps, "iterations": iterations, "paper_iterations": paper,
                      "ratio": iterations / paper, "error": error, "wall_time_s": wall})
         print(f"eps={eps:g}: {iterations} iterations (paper {paper}), error {error:.3g}")
-    atomic_write_text(args.out / "iterations.json", json.dumps(rows, indent=2))
+    write_json(args.out / "iterations.json", rows)
     if not args.skip_tables:
         for table in (1, 2):
             path = verify_plug_flow(table, "all", args.out, progress=False)

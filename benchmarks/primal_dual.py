@@ -17,15 +17,13 @@ discrete events that round-off moves).
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 from pathlib import Path
 
 from common.cases import CASES
+from common.results import report, write_json
 from common.runs import run_summary, surfaces_m
-
-from granflow.io.run_dir import atomic_write_text
 
 # the column of benchmarks/initial_guess.py: near rest on a 10 deg slope, where the plain
 # iteration contracts by only 0.96 per iteration
@@ -47,9 +45,9 @@ def compare(name: str, repeat: int, out: Path) -> dict:
             summary = run_summary(scenario, [*common, *extra], out / name / f"{label}{k}")
             walls[label].append(summary["wall_time_s"])
             result[label] = summary
-            print(name, label, k, json.dumps({x: summary[x] for x in (
+            report(f"{name} {label} {k}", {x: summary[x] for x in (
                 "status", "steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
-                "stop_time_s", "runout_m", "velocity_relative_error_l2")}), flush=True)
+                "stop_time_s", "runout_m", "velocity_relative_error_l2")})
     b, p = result["B"], result["P"]
     medians = {label: statistics.median(v) for label, v in walls.items()}
     result |= {"wall_time_median_s": medians, "wall_times_s": walls,
@@ -74,7 +72,7 @@ def main(argv: list[str]) -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     for name in args.cases:
         result = compare(name, args.repeat, args.out / "runs")
-        atomic_write_text(args.out / f"{name}.json", json.dumps(result, indent=2))
+        write_json(args.out / f"{name}.json", result)
         print(name, "speed-up P/B", round(result["speedup_P_over_B"], 2), "iterations",
               result["B"]["nonlinear_iterations"], "/", result["P"]["nonlinear_iterations"],
               flush=True)

@@ -23,7 +23,7 @@ import tempfile
 from collections import Counter
 from pathlib import Path
 
-from granflow.io.run_dir import atomic_write_text
+from common.results import write_json, write_markdown
 
 CATEGORIES = [   # (name, patterns of a frame "Class.method (path:line)"), first match wins
     ("factorisation (sparse LU)", [r"update \(.*fem/linalg\.py", r"Inverse"]),
@@ -87,17 +87,17 @@ def main(argv: list[str]) -> None:
         subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL)
         found, samples = shares(raw.read_text())
         if args.raw is not None:
-            atomic_write_text(args.raw, raw.read_text())
+            write_markdown(args.raw, raw.read_text())
         summary = json.loads((Path(tmp) / "run" / "summary.json").read_text())
     for name, share in found.items():
         print(f"{100 * share:5.1f} %  {name}")
     print(f"{samples} samples at {args.rate} Hz; {summary.get('nonlinear_iterations')} "
           f"iterations, {summary.get('steps')} steps")
-    atomic_write_text(args.out, json.dumps({
+    write_json(args.out, {
         "scenario": args.scenario, "overrides": args.overrides,
         "src": str(args.src) if args.src else None, "rate_hz": args.rate, "samples": samples,
         "steps": summary.get("steps"), "iterations": summary.get("nonlinear_iterations"),
-        "shares": found}, indent=2))
+        "shares": found})
 
 
 if __name__ == "__main__":

@@ -33,13 +33,13 @@ import json
 from pathlib import Path
 
 from common.cases import SCENARIO, SETUP
+from common.results import report, write_results
 from common.runs import distances_mm
 
 import granflow
 from granflow.config import ConfigError, load_config
 from granflow.io import profiles
 from granflow.io.plots import save_figure
-from granflow.io.run_dir import atomic_write_text
 
 # The regularised law with the paper's iteration (3.2), the method section 5.2 timed against
 # ALG2 (and what these tables used before the column scenarios defaulted to primal-dual).
@@ -88,7 +88,7 @@ def main() -> None:
                 for kind in ("free_surface", "interface"):
                     row[f"{kind}_vs_dp_mm"] = distances_mm(ref, run, kind)
             rows.append(row)
-            print(json.dumps(row), flush=True)
+            report("", row)
         plot(args.out, shape)
     write(args.out, rows)
 
@@ -120,10 +120,7 @@ def write(out: Path, rows: list[dict]) -> None:
             if r.get(key):
                 text = ", ".join(f"{t} s: {a}/{b}" for t, (a, b) in r[key].items())
                 lines.append(f"- {r['shape']} {r['law']} {key[:-9]}: {text}")
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "rheologies.json", json.dumps(rows, indent=2))
-    atomic_write_text(out / "rheologies.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_results(out, "rheologies", rows, lines, show=True)
 
 
 def plot(out: Path, shape: str) -> None:

@@ -23,8 +23,9 @@ import sys
 import time
 from pathlib import Path
 
+from common.results import report, write_json, write_markdown
+
 from granflow.io.plots import save_figure
-from granflow.io.run_dir import atomic_write_text
 
 REFERENCE = (329, 0.021)  # triangles of the trapezoid at mesh.size 0.021 m
 
@@ -107,12 +108,12 @@ def main(argv: list[str]) -> None:
                                str(args.steps), "--solver", args.solver],
                               capture_output=True, text=True, check=True)
         rows.append(json.loads(done.stdout.strip().splitlines()[-1]))
-        print(json.dumps(rows[-1]), flush=True)
+        report("", rows[-1])
     fits = {key: {"up_to_20k": slope(rows, key, 0, 25000),
                   "20k_to_80k": slope(rows, key, 15000, 10**9)}
             for key in ("step_s", "factorise_s", "assemble_s", "solve_s")}
-    atomic_write_text(args.out / f"scaling-{rows[0]['solver']}.json",
-        json.dumps({"rows": rows, "growth_exponents": fits}, indent=2))
+    write_json(args.out / f"scaling-{rows[0]['solver']}.json",
+               {"rows": rows, "growth_exponents": fits})
     lines = ["| triangles | dofs | step (s) | assemble (s) | factorise (s) | solve (s) | "
              "peak memory (GB) |", "|---|---|---|---|---|---|---|"]
     lines += [f"| {r['n_triangles']} | {r['n_dofs']} | {r['step_s']:.4g} | "
@@ -120,8 +121,7 @@ def main(argv: list[str]) -> None:
               f"{r['peak_rss_gb']:.2f} |" for r in rows]
     lines.append("")
     lines.append("growth exponents (cost ~ n^k): " + json.dumps(fits))
-    atomic_write_text(args.out / f"scaling-{rows[0]['solver']}.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_markdown(args.out / f"scaling-{rows[0]['solver']}.md", lines, show=True)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -13,16 +13,16 @@ time the front stops, the deposit's height at the wall. Writes OUT/side_walls.js
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
+from common.results import report, write_results
 from common.runs import distances_mm
 
 import granflow
 from granflow.config import load_config
 from granflow.io import profiles
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 KEYS = ["status", "stop_time_s", "front_stop_time_s", "runout_m", "wall_height_m", "steps",
         "wall_time_s"]
@@ -47,14 +47,14 @@ def main() -> None:
             summary = RunDir.summary(run_dir.root)
             rows.append({"scenario": scenario, "case": label,
                          **{k: summary.get(k) for k in KEYS}})
-            print(json.dumps(rows[-1]), flush=True)
+            report("", rows[-1])
         plain, walled = (args.out / "runs" / f"{scenario}_{k}" for k in ("plain", "walls"))
         rows[-1]["free_surface_vs_plain_mm"] = distances_mm(plain, walled)
         interfaces = (profiles.curves(plain, "interface"),
                       profiles.curves(walled, "interface"))
         rows[-1]["interface_vs_plain_mm"] = distances_mm(plain, walled, "interface")
         rows[-1]["interface_rise_mm"] = rise(*interfaces)
-        print(json.dumps(rows[-1]), flush=True)
+        report("", rows[-1])
     write(args.out, rows, args.width, args.angle)
 
 
@@ -90,9 +90,7 @@ def write(out: Path, rows: list[dict], width: float, angle: float) -> None:
                     f"{t} s: {a}/{b}" for t, (a, b) in r[key].items()))
             lines.append("- interface rise with walls (mean, mm): " + ", ".join(
                 f"{t} s: {v}" for t, v in r["interface_rise_mm"].items()))
-    atomic_write_text(out / "side_walls.json", json.dumps(rows, indent=2))
-    atomic_write_text(out / "side_walls.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_results(out, "side_walls", rows, lines, show=True)
 
 
 if __name__ == "__main__":

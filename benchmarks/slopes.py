@@ -26,9 +26,11 @@ import argparse
 import json
 from pathlib import Path
 
+from common.results import read_results, report, write_json, write_markdown
+
 import granflow
 from granflow.config import load_config
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 KEYS = ["status", "message", "t_final", "steps", "linear_solves", "wall_time_s",
         "stop_time_s", "runout_m", "runout_1mm_m", "volume_relative_error", "n_triangles",
@@ -89,7 +91,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     store = args.out / "slopes.json"
-    results = json.loads(store.read_text()) if store.exists() else {}   # rigid runouts
+    results = read_results(store)   # rigid runouts
     for shape in args.shapes:
         for bed in args.beds:
             for slope in args.slopes:
@@ -109,7 +111,7 @@ def main() -> None:
                 summary = RunDir.summary(run_dir.root)
                 results = _store(args.out, name, {k: summary.get(k) for k in KEYS} | {
                     "shape": shape, "bed": bed, "slope": slope})
-                print(name, json.dumps(results[name]), flush=True)
+                report(name, results[name])
     print(table(results))
 
 
@@ -118,10 +120,10 @@ def _store(out: Path, name: str, row: dict) -> dict[str, dict]:
     another invocation (a long run, a --collect) may have written rows since this one
     started."""
     store = out / "slopes.json"
-    results = json.loads(store.read_text()) if store.exists() else {}
+    results = read_results(store)
     results[name] = row
-    atomic_write_text(store, json.dumps(results, indent=2))
-    atomic_write_text(out / "slopes.md", table(results))
+    write_json(store, results)
+    write_markdown(out / "slopes.md", table(results))
     return results
 
 

@@ -34,9 +34,8 @@ import time
 from pathlib import Path
 
 from common.cases import CASES, PAPER, TODAY
+from common.results import report, write_json
 from common.runs import run_summary, surfaces_m
-
-from granflow.io.run_dir import atomic_write_text
 
 
 def run_process(scenario: str, overrides: list[str], out: Path) -> dict:
@@ -67,13 +66,13 @@ def compare(name: str, repeat: int, out: Path, today: bool = False,
             summary = run_summary(scenario, [*common, *extra], out / name / f"{label}{k}")
             walls[label].append(summary["wall_time_s"])
             result[label] = summary
-            print(name, label, k, json.dumps({x: summary[x] for x in (
+            report(f"{name} {label} {k}", {x: summary[x] for x in (
                 "status", "steps", "linear_solves", "wall_time_s", "stop_time_s",
-                "runout_m", "velocity_relative_error_l2")}), flush=True)
+                "runout_m", "velocity_relative_error_l2")})
         if process:
             timing = run_process(scenario, common, out / name / f"B_process{k}")
             result.setdefault("B_process", []).append(timing)
-            print(name, "B as a process", k, json.dumps(timing), flush=True)
+            report(f"{name} B as a process {k}", timing)
     a, b = result["A"], result["B"]
     result["wall_time_median_s"] = {k: statistics.median(v) for k, v in walls.items()}
     result["wall_times_s"] = walls
@@ -121,7 +120,7 @@ def main(argv: list[str]) -> None:
     for name in args.cases:
         result = compare(name, args.repeat, args.out / "runs", args.today, args.half_step,
                          args.process)
-        atomic_write_text(args.out / f"{name}.json", json.dumps(result, indent=2))
+        write_json(args.out / f"{name}.json", result)
         medians = result["wall_time_median_s"]
         whole = result.get("B_process_wall_time_median_s")
         table.append(f"| {name} | {medians['A']:.1f} | {medians['B']:.1f} | "

@@ -41,9 +41,8 @@ import sys
 import time
 from pathlib import Path
 
+from common.results import read_results, report, write_json, write_markdown
 from erosion_slopes import overrides as slope_overrides
-
-from granflow.io.run_dir import atomic_write_text
 
 # the glass beads' rigid rectangle at 22 degrees: its front at t = 3 s, still moving
 # (``granflow run rectangle-rigid`` with ``slope_overrides("glass-beads", "rectangle", 0, 22)``)
@@ -90,7 +89,7 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
         for label, (scenario, sets, src) in (("first", first), ("second", second)):
             result = run(scenario, sets, out / name / f"{label}{k}", src)
             runs[label].append(result)
-            print(name, label, k, json.dumps(result), flush=True)
+            report(f"{name} {label} {k}", result)
     median = {label: statistics.median(r["process_wall_time_s"] for r in rows)
               for label, rows in runs.items()}
     cpu = {label: statistics.median(r["process_cpu_time_s"] for r in rows)
@@ -157,7 +156,7 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed_targets"))
     args = parser.parse_args(argv)
     results_file = args.out / "speed_targets.json"
-    results = json.loads(results_file.read_text()) if results_file.is_file() else {}
+    results = read_results(results_file)
     src = args.src.resolve() if args.src is not None else None
     prefix = f"{args.tag}/" if args.tag else ""
     cases = {prefix + name: ((*PAIRS[name][0], src), (*PAIRS[name][1], src))
@@ -167,7 +166,7 @@ def main(argv: list[str]) -> None:
                              ("trapezoid-rigid", [], None))
     for name, (first, second) in cases.items():
         results[name] = compare(name, first, second, args.repeat, args.out / "runs")
-        atomic_write_text(results_file, json.dumps(results, indent=2))
+        write_json(results_file, results)
     lines = ["| pair | first | second | processor time (s), first / second | second / first "
              "| wall time (s), first / second | second / first | iterations, first / second |",
              "|---|---|---|---|---|---|---|---|"]
@@ -182,8 +181,7 @@ def main(argv: list[str]) -> None:
     lines += ["", *target_lines(results)]
     for tag in tags:
         lines += ["", *before_after_lines(results, tag)]
-    print("\n".join(lines))
-    atomic_write_text(args.out / "speed_targets.md", "\n".join(lines) + "\n")
+    write_markdown(args.out / "speed_targets.md", lines, show=True)
 
 
 if __name__ == "__main__":

@@ -13,17 +13,18 @@ the volume fix over the run, the worst triangle quality at the end and the wall 
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
+
+from common.results import read_results, report, write_json, write_markdown
 
 import granflow
 from granflow.config import load_config
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "linear_solves",
         "wall_time_s", "stop_time_s", "runout_m", "n_triangles", "remeshes",
         "remesh_area_change_max", "remesh_area_restored_max", "area_correction_total",
-        "area_correction_net", "min_triangle_quality", "unconverged_steps"]
+        "area_correction_net", "min_triangle_quality"]
 
 
 def table(results: dict[str, dict]) -> str:
@@ -48,7 +49,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/tall_columns"))
     args = parser.parse_args()
     store = args.out / "tall_columns.json"
-    results = json.loads(store.read_text()) if store.exists() else {}
+    results = read_results(store)
     for ratio in args.ratios:
         overrides = [f"geometry.width={args.width!r}", f"geometry.height={ratio * args.width!r}",
                      "time.t_end=3.0", *args.extra]
@@ -56,9 +57,9 @@ def main() -> None:
         run_dir = granflow.run(config, out=args.out / "runs" / f"h{ratio:g}", force=True)
         summary = RunDir.summary(run_dir.root)
         results[f"{ratio:g}"] = {k: summary.get(k) for k in KEYS} | {"overrides": overrides}
-        print(f"h0/l0 = {ratio:g}", json.dumps(results[f"{ratio:g}"]), flush=True)
-        atomic_write_text(store, json.dumps(results, indent=2))
-        atomic_write_text(args.out / "tall_columns.md", table(results))
+        report(f"h0/l0 = {ratio:g}", results[f"{ratio:g}"])
+        write_json(store, results)
+        write_markdown(args.out / "tall_columns.md", table(results))
     print(table(results))
 
 

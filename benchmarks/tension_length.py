@@ -20,12 +20,10 @@ table. ``off`` runs a case without the tension (``surface_tension.enabled = fals
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
+from common.results import write_results
 from common.runs import COLLAPSE_KEYS, run_or_continue, surfaces_m
-
-from granflow.io.run_dir import atomic_write_text
 
 STRONG = "layer.friction_angle_deg"
 # name: (scenario, overrides); "strong-A-M" has the layer at A deg under the 25.5 deg
@@ -113,9 +111,7 @@ def main() -> None:
                 and {"mesh_size", "local_edge"} <= set(by_length)):
             results["free_surfaces"][case] = surfaces_m(
                 *(args.out / "runs" / length / case for length in ("mesh_size", "local_edge")))
-    atomic_write_text(args.out / "tension_length.json", json.dumps(results, indent=2))
-    atomic_write_text(args.out / "tension_length.md", table(results))
-    print(table(results))
+    write_results(args.out, "tension_length", results, table(results), show=True)
 
 
 if __name__ == "__main__":

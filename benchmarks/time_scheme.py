@@ -21,14 +21,15 @@ OUT/time_scheme.json and prints a table.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
+
+from common.results import write_json
 
 import granflow
 from granflow.config import load_config
 from granflow.io import profiles
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 PAPER_HALF_STEP = ["numerics.linearization=picard", "time.adaptive=false", "time.dt_init=1e-8",
                    "time.dt_growth=1.1", "time.dt_max=5e-5", "numerics.tol=1e-4",
@@ -98,8 +99,7 @@ def main(argv: list[str]) -> None:
             ) + " | " + ("-" if against is None else
                          f"{100 * against['stop_time_rel']:.2f} % / "
                          f"{1e3 * against['runout_m']:.2f} mm") + " |")
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "time_scheme.json", json.dumps(result, indent=2))
+    write_json(args.out / "time_scheme.json", result)
     print("\n".join(table))
 
 

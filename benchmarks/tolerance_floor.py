@@ -6,21 +6,21 @@ Run: python benchmarks/tolerance_floor.py [--tols 3e-5 1e-8 1e-10 1e-12 1e-14]
 
 A 10 cm square column on a 2 cm mesh (about 50 triangles) runs to T_END at each tolerance
 (rules off: the smallest tolerances are below what granflow accepts); per tolerance: the
-accepted steps, the nonlinear iterations per step, the steps that ended unconverged at
-numerics.max_iterations, the wall time. Backs ``TOL_FLOOR`` (granflow/config/cost.py):
-above it every step converges, below it steps end at max_iterations. Writes
-OUT/tolerance_floor.json.
+accepted steps, the nonlinear iterations per step, the attempts that reached
+numerics.max_iterations unconverged (rejected and retried smaller: ``not_converged``), the
+wall time. Backs ``TOL_FLOOR`` (granflow/config/cost.py): above it every step converges,
+below it steps end at max_iterations. Writes OUT/tolerance_floor.json.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
+from common.results import write_json
+
 from granflow.config import load_config
-from granflow.io.run_dir import atomic_write_text
 from granflow.runner import build_problem
 
 CASE = ["geometry.width=0.1", "geometry.height=0.1", "mesh.size=0.02", "time.output_times=[]",
@@ -38,8 +38,8 @@ def run(tol: float, t_end: float) -> dict:
     steps = max(1, result.steps)
     return {"tol": tol, "status": result.status, "t_final": result.t_final,
             "steps": result.steps, "iterations_per_step": result.nonlinear_iterations / steps,
-            "unconverged_steps": result.unconverged_steps,
             "rejected_steps": result.rejected_steps,
+            "not_converged": result.rejections.get("not_converged", 0),
             "n_triangles": problem.mesh.ne, "wall_s": time.perf_counter() - start}
 
 
@@ -55,10 +55,9 @@ def main() -> None:
         rows.append(row := run(tol, args.t_end))
         print(f"tol {tol:8.1e}: {row['status']:9s} t = {row['t_final']:.4g} s, "
               f"{row['steps']} steps, {row['iterations_per_step']:6.1f} iterations a step, "
-              f"{row['unconverged_steps']} unconverged, {row['wall_s']:6.1f} s")
-    args.out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(args.out / "tolerance_floor.json", json.dumps(
-        {"case": CASE, "t_end": args.t_end, "rows": rows}, indent=2) + "\n")
+              f"{row['not_converged']} attempts unconverged, {row['wall_s']:6.1f} s")
+    write_json(args.out / "tolerance_floor.json", {"case": CASE, "t_end": args.t_end,
+                                                    "rows": rows}, end="\n")
 
 
 if __name__ == "__main__":

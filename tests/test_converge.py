@@ -240,6 +240,9 @@ def test_tolerance_and_rest_levels_tighten_their_parameters() -> None:
     ramp = load_config("rectangle-rigid", ["time.adaptive=false", "numerics.tol=1e-4"])
     assert level_overrides(ramp, "tolerance", 0)["numerics.tol_init"] == pytest.approx(
         min(ramp.numerics.tol_init, 1e-4))
+    held = load_config("rectangle-rigid", ["time.adaptive=false", "numerics.tol=1e-4",
+                                           "numerics.tol_init=none"])  # the ramp holds tol
+    assert level_overrides(held, "tolerance", 2)["numerics.tol_init"] == pytest.approx(1e-5)
 
 
 def test_each_tolerance_level_is_judged_against_the_tightest(tmp_path: Path) -> None:

@@ -8,9 +8,10 @@ import shutil
 from pathlib import Path
 
 import granflow
+from common.results import write_json
 from granflow.config import load_config
 from granflow.io import profiles
-from granflow.io.run_dir import RunDir, atomic_write_text
+from granflow.io.run_dir import RunDir
 
 COLLAPSE_KEYS = ["status", "message", "t_final", "steps", "rejected_steps",
                  "nonlinear_iterations", "linear_solves", "wall_time_s", "stop_time_s",
@@ -18,7 +19,7 @@ COLLAPSE_KEYS = ["status", "message", "t_final", "steps", "rejected_steps",
                  "volume_relative_error", "n_triangles", "n_dofs", "runout_1mm_m",
                  "surface_edge_spread", "remeshes", "history_restarts"]
 SPEED_KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "rejections",
-              "unconverged_steps", "nonlinear_iterations", "linear_solves", "wall_time_s",
+              "nonlinear_iterations", "linear_solves", "wall_time_s",
               "stop_time_s", "all_cells_static_s", "runout_m", "volume_relative_error",
               "n_triangles", "remeshes", "min_triangle_quality",
               "velocity_relative_error_l2", "outputs_at_rest", "linear_solver"]
@@ -33,7 +34,7 @@ def run_variant(tag: str, scenarios: list[str], overrides: list[str], out: Path)
         summary = RunDir.summary(run_dir.root)
         results[name] = {k: summary.get(k) for k in COLLAPSE_KEYS} | {"overrides": overrides}
         print(tag, name, json.dumps(results[name], indent=1), flush=True)
-    atomic_write_text(out / f"{tag}.json", json.dumps(results, indent=2))
+    write_json(out / f"{tag}.json", results)
     return results
 
 

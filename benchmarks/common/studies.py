@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from granflow.io.run_dir import atomic_write_text
+from common.results import report, write_json
 from granflow.sweep import Cluster, load_sweep, run_sweep
 
 
@@ -15,6 +14,6 @@ def run_study(study: str, out: Path, workers: int) -> dict:
         result = run_sweep(load_sweep(study), out / "sweep", cluster.client, progress=False)
     timing = {"workers": workers, "wall_time_s": result.wall_time_s, "runs": len(result.rows),
               "skipped": result.skipped, "failed": len(result.failed)}
-    print(json.dumps(timing))
-    atomic_write_text(out / f"timing_{workers}_workers.json", json.dumps(timing, indent=2))
+    report("", timing)
+    write_json(out / f"timing_{workers}_workers.json", timing)
     return timing

@@ -110,7 +110,7 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
         num = config.numerics
         out["numerics.tol"] = float(f"{num.tol / TOL_STEP**level:.4g}")
         if not t.adaptive and t.dt is None:
-            out["numerics.tol_init"] = min(num.tol_init, out["numerics.tol"])
+            out["numerics.tol_init"] = min(num.tol_start, out["numerics.tol"])
     if mode == "rest":
         out["time.rest_fraction"] = t.rest_fraction / factor
         out["time.rest_duration"] = t.rest_duration * factor

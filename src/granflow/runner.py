@@ -217,8 +217,8 @@ class _Run:
             crashed = exc
             result = RunResult("failed", f"{type(exc).__name__} at t = {sim.t:.6g} s, step "
                                f"{sim.step}: {exc}", sim.t, sim.step, sim.rejected_steps,
-                               sim.nonlinear_iterations, sim.linear_solves,
-                               sim.unconverged_steps, sim.wall_time(), dict(sim.rejections))
+                               sim.nonlinear_iterations, sim.linear_solves, sim.wall_time(),
+                               dict(sim.rejections))
             run_dir.write_text("traceback.txt", traceback.format_exc())
         finally:
             stopped = result is not None and result.status == "stopped"
@@ -243,7 +243,6 @@ class _Run:
             "remesh_times_s": self.events["remesh"],          # the mesh replaced
             "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
             "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
-            "unconverged_steps": result.unconverged_steps,
             "skipped_remeshes": result.skipped_remeshes,
             "history_restarts": result.history_restarts,   # surface tension on/off
             "nonlinear_iterations": result.nonlinear_iterations,

@@ -9,7 +9,9 @@ from granflow.diagnostics.front import (
     stop_time,
     surface_edge_spread,
     thick_front,
+    wall_height,
 )
+from granflow.geometry.profile import Line
 
 
 def test_stop_time_is_where_the_mass_stays_static_to_the_end() -> None:
@@ -51,3 +53,17 @@ def test_settle_time_is_when_the_front_comes_within_tolerance_of_its_final_posit
     front = np.array([0.30, 0.40, 0.448, 0.4497, 0.4502, 0.4505])
     assert settle_time(t, front) == pytest.approx(0.3)
     assert settle_time(t, np.full(6, 0.3)) is None
+
+
+def test_the_wall_height_is_measured_along_the_wall() -> None:
+    """On the paper's bed the wall is X = 0 and the height the largest Z on it; on a bed
+    tilted by 30 degrees the wall stands normal to the bed and the height runs along it."""
+    upright = Line.through(np.zeros(2), np.array([0.0, 1.0]), np.array([1.0, 0.0]))
+    mass = np.array([[0.0, 0.0], [0.0, 0.14], [0.2, 0.1], [0.1, 0.2]])
+    assert wall_height(mass, upright) == pytest.approx(0.14)
+    assert wall_height(mass, None) == 0.0
+    assert wall_height(mass + [0.01, 0.0], upright) == 0.0       # nothing on the wall
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    tilted = Line.through(np.zeros(2), np.array([s, c]), np.array([c, -s]))
+    on_it = np.array([[0.0, 0.0], [0.1 * s, 0.1 * c], [0.2 * c, -0.2 * s]])
+    assert wall_height(on_it, tilted) == pytest.approx(0.1)

@@ -1,4 +1,4 @@
-"""The mobilisation field on a mesh (fem/mobilisation.py): its upwind transport with the
+"""The mobilisation field on a mesh (fem/mobilisation_field.py): its upwind transport with the
 velocity relative to the moving mesh, and its transfer onto a new mesh (ale/transfer.py)."""
 
 import ngsolve as ngs
@@ -6,7 +6,7 @@ import numpy as np
 from netgen.geom2d import unit_square
 
 from granflow.ale.transfer import transfer_cells
-from granflow.fem.mobilisation import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 
 

@@ -178,3 +178,18 @@ def test_a_move_that_switches_the_forcing_restarts_the_history_before_the_solve(
     assert solver.events[:4] == ["solve", "solve", "restart", "solve"]
     assert solver.events.count("restart") == 2 and solver.events.count("solve") == 10
     assert sim.save_state()["history_restarts"] == 2
+
+
+def test_a_loop_state_of_an_earlier_version_with_its_unconverged_counter_restores() -> None:
+    """Checkpoints written before the always-zero ``unconverged_steps`` counter was dropped
+    still carry it: a resume ignores it and continues the counters it knows."""
+    sim = Simulation(solver=RecordingSolver(), steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                     t_end=0.01, max_iterations=10)
+    sim.run()
+    state = sim.save_state() | {"unconverged_steps": 0}
+    twin = Simulation(solver=RecordingSolver(), steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                      t_end=0.01, max_iterations=10)
+    twin.restore_state(state)
+    assert (twin.t, twin.step, twin.nonlinear_iterations) == (sim.t, sim.step,
+                                                               sim.nonlinear_iterations)
+    assert "unconverged_steps" not in twin.save_state()

@@ -164,6 +164,5 @@ def test_the_column_that_stalled_the_iteration_comes_to_rest() -> None:
     rest = problem.simulation.stop_criteria[0]
     assert 0.2 < rest.rest_since < 0.35
     summary = problem.simulation.callbacks.summary(result)
-    assert result.unconverged_steps == 0
     assert summary["remeshes"] >= 1
     assert summary["min_triangle_quality"] > 0.3

@@ -21,12 +21,13 @@ surface turns back past the perpendicular into the domain, which is where a fold
 ``release_angle_deg`` (hysteresis; default 45 deg): with a single threshold the tension
 straightened a fold just below 90 deg, switched off, the fold came back, and near rest the
 tension toggled every few steps, each switch a jump in the surface traction that the
-step-error control answered with dt ~ 1e-5 s (the rectangle over the layer crawled at
-t = 0.58 s). i_c is the node of largest curvature C, signed as in (3.10), as the
+step-error control answered with ever smaller steps, and the rectangle over the layer
+crawled. i_c is the node of largest curvature C, signed as in (3.10), as the
 paper says: the most concave node, i.e. the fold. A convex nose is left alone: over a
 rigid bed the overturning front is a convex nose that deposition (Figure 2) lands on the
 bed, and taking |C| there put the tension on that nose at every step and shortened the
-trapezoid's runout by 5-9 cm (benchmarks/results/erodible/).
+trapezoid's runout by centimetres, as a tension always on does (docs/verification.md, the
+erodible bed; benchmarks/erodible.py).
 """
 
 from __future__ import annotations

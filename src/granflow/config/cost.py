@@ -5,16 +5,16 @@ key to change; a run of more than an hour is announced (``cost_note``).
 The estimate is a lower bound: the triangles the mesher will make (``estimated_triangles``)
 times the fewest steps (time.t_end over time.dt or time.dt_max) times
 ``COST_PER_TRIANGLE_STEP``, the time one core takes per triangle and step at the default
-tolerance. Measured by ``benchmarks/scaling.py`` (``benchmarks/results/scaling``): 8.5e-5 s
-at 300 to 1,200 triangles, 7.1e-5 s at 5,000, 9.9e-5 s at 20,000 and 1.5e-4 s at 80,000, six
-iterations a step with PARDISO. A column that stops at rest (``time.stop_at_rest``) usually
-ends long before time.t_end, so its estimate is only announced, never refused.
+tolerance, as ``benchmarks/scaling.py`` measured it from 300 to 80,000 triangles
+(``tests/unit/test_cost.py`` holds it within that measurement). A column that stops at
+rest (``time.stop_at_rest``) usually ends long before time.t_end, so its estimate is only
+announced, never refused.
 
 A tolerance below ``TOL_FLOOR`` is refused: the fixed-point iteration (3.2) does not reach
-it in double precision (``benchmarks/tolerance_floor.py``, the first 0.01 s of a
-52-triangle column: 16 steps at every tolerance from 3e-5 to 1e-12, with 14 iterations a
-step at 3e-5 and 318 at 1e-12; at 1e-14, 560 attempts fail to converge and are retried
-smaller, and the run takes 562 steps and 37 times the wall time of 1e-12).
+it in double precision. ``benchmarks/tolerance_floor.py`` runs a coarse column at
+tolerances falling to round-off: down to the floor every step converges, below it the
+attempts fail to converge and are retried smaller, at many times the cost
+(``tests/unit/test_cost.py`` reads the floor from its results).
 """
 
 from __future__ import annotations

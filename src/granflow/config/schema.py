@@ -213,6 +213,8 @@ class Numerics(_Section):
 
     @property
     def tol_start(self) -> float:
+        """The tolerance the ramp of section 3.1 starts from: ``tol_init``, or ``tol`` when
+        it is unset (the ramp then holds ``tol`` throughout)."""
         return self.tol if self.tol_init is None else self.tol_init
 
 

@@ -4,16 +4,22 @@ from __future__ import annotations
 
 import numpy as np
 
+from granflow.geometry.profile import Line
+
 
 def front_position(xy: np.ndarray) -> float:
     """Runout: the largest X of the mass."""
     return float(xy[:, 0].max())
 
 
-def wall_height(xy: np.ndarray, tol: float = 1e-12) -> float:
-    """Height of the mass at the wall X = 0."""
-    on_wall = xy[:, 0] <= tol
-    return float(xy[on_wall, 1].max()) if np.any(on_wall) else 0.0
+def wall_height(xy: np.ndarray, wall: Line | None, tol: float = 1e-12) -> float:
+    """Height of the mass along the left wall (``diagnostics.csv: wall_height``, the
+    summary's ``wall_height_m``): the farthest of the points on the wall from its foot,
+    measured along it (on the paper's bed, the largest Z at X = 0); 0 without a wall."""
+    if wall is None:
+        return 0.0
+    on_wall = wall.height(xy) <= tol
+    return float(wall.along(xy[on_wall]).max()) if np.any(on_wall) else 0.0
 
 
 def stop_time(t: np.ndarray, flowing_fraction: np.ndarray,

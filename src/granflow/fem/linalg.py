@@ -2,8 +2,8 @@
 
 The direct solver is PARDISO when Intel MKL is installed (a default dependency on x86-64,
 where Intel ships it), else UMFPACK (NGSolve's own). PARDISO's numeric refactorisation of the
-collapse systems is 3.7 times faster (benchmarks/linear_algebra.py); both give the same
-solution to round-off.
+collapse systems is several times faster (docs/performance.md, the solver choice, from
+benchmarks/linear_algebra.py); both give the same solution to round-off.
 """
 
 from __future__ import annotations
@@ -14,16 +14,14 @@ import ngsolve as ngs
 from pyngcore import Flags
 
 SOLVERS = ("auto", "umfpack", "pardiso")
-# PARDISO as NGSolve configures it allows 16 steps of iterative refinement per solve; on
-# the column systems it took 3-4 of them, 85 % of a solve's time, for no change of the
-# residual (1e-14 either way). With 0, MKL still refines twice when the factorisation
-# perturbed a pivot (iparm[7] = 0, MKL manual).
+# No iterative refinement of each PARDISO solve (NGSolve's configuration allows it): on the
+# column systems it took most of a solve's time and left the residual at round-off either
+# way. MKL still refines when the factorisation perturbed a pivot (iparm[7] = 0, MKL manual).
 PARDISO_FLAGS = {"refinement": 0}
 # From this many unknowns on, the nested-dissection ordering of METIS instead of minimum
-# degree: the numeric factorisation takes 0.123 s against 0.149 s at 22,883 unknowns (4,980
-# triangles), 0.45 s against 0.91 s at 90,930 and 2.96 s against 5.56 s at 362,906; at
-# 1,606 (the default trapezoid) it gains nothing, and the order of the pivots, hence the
-# round-off, of the verified small runs stays as it was.
+# degree: it factorises the large systems faster (docs/performance.md, the scaling table,
+# from benchmarks/scaling.py); below, the default trapezoid gains nothing, and the order of
+# the pivots, hence the round-off, of the verified small runs stays as it was.
 METIS_FROM_UNKNOWNS = 20_000
 
 

@@ -114,8 +114,7 @@ def _checked_loop(loop: dict[str, Any]) -> dict[str, Any]:
         if isinstance(value, bool) or not isinstance(value, int | float) or \
                 not math.isfinite(value) or value < 0:
             raise ValueError(f"its time {key} = {str(value)[:40]} is not a number >= 0")
-    for key in ("step", "rejected_steps", "nonlinear_iterations", "momentum_solves",
-                "unconverged_steps"):
+    for key in ("step", "rejected_steps", "nonlinear_iterations", "momentum_solves"):
         value = loop.get(key)
         if isinstance(value, bool) or not isinstance(value, int) or value < 0:
             raise ValueError(f"its counter {key} = {str(value)[:40]} is not a whole number")

@@ -7,7 +7,7 @@ then the columns the problem's parts declare (``simulation/outputs.py``), in the
 were added to the loop: over an erodible layer the entrainment columns (areas in m^2 per
 metre, positions and depth in m, the area drift relative; ``scenarios/column_layer.py``),
 with a hysteretic friction ``mobilised_fraction``, the mean mobilisation of the mass
-(``scenarios/mobilisation.py``).
+(``scenarios/mobilisation_tracking.py``).
 In an axisymmetric run front_x is the radius r (m), volume is the volume of revolution (m^3)
 and kinetic_energy the whole body's (J). The file is append-only and flushed after each
 row; a resumed run first cuts it back to the rows its checkpoint had seen, then appends.

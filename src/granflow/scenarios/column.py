@@ -37,7 +37,7 @@ from granflow.scenarios.column_measures import ColumnMeasures
 from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.scenarios.column_sizes import initial_size_field
 from granflow.scenarios.materials import layer_material
-from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion

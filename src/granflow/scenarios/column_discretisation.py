@@ -21,7 +21,7 @@ from granflow.fem.flow import Density, FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
-from granflow.fem.mobilisation import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
@@ -168,7 +168,7 @@ def _materials(config: Config, mesh: ngs.Mesh, mobilisation: MobilisationField |
     the indicator, a piecewise constant share of layer material per triangle, read on the
     walls from the adjacent triangle (a plain L2 function is 0 on a boundary element, which
     would give the Coulomb walls' load under the layer the column's law). A hysteretic
-    friction reads the mobilisation field (``fem/mobilisation.py``)."""
+    friction reads the mobilisation field (``fem/mobilisation_field.py``)."""
     eps = config.numerics.eps
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
     layer = layer_material(config)

@@ -78,11 +78,7 @@ class ColumnMeasures(Outputs):
 
     def wall_height(self, xy: np.ndarray) -> float:
         """Height of the mass along the left wall (0 without one)."""
-        wall = self.current.mover.support.wall
-        if wall is None:
-            return 0.0
-        on_wall = wall.height(xy) <= 1e-12
-        return float(wall.along(xy[on_wall]).max()) if np.any(on_wall) else 0.0
+        return front_diag.wall_height(xy, self.current.mover.support.wall)
 
     @cached_property
     def initial_front(self) -> float:

@@ -33,7 +33,7 @@ from granflow.scenarios.column_discretisation import (
 )
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_sizes import refit_due, refitted, remesh_sizes
-from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
 
 

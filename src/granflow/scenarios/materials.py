@@ -78,9 +78,9 @@ def build_side_walls(config: Config) -> SideWallFriction | None:
 def augmentation(config: Config) -> float | None:
     """r of the augmented Lagrangian method (``numerics.al_r``), or None for the regularised
     law: the starting value, which the iteration then balances (fem/augmented_lagrangian.py).
-    auto = 20 x viscosity: on the plug flow's first step (dZ = 0.25, dt = 1.25e-2) the
-    fastest of 0.2, 2, 20 and 200 x viscosity with balancing (257 iterations; 344 to 573
-    for the others, benchmarks/augmented_lagrangian.py)."""
+    auto = 20 x viscosity: of r a decade apart, the one with which the plug flow's first
+    step converges in the fewest iterations (benchmarks/augmented_lagrangian.py, its choice
+    of r)."""
     num = config.numerics
     if num.method != "augmented-lagrangian":
         return None

@@ -16,13 +16,13 @@ from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.flow import FlowSolver
 from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import MuI, gravity_vector
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.scenarios.materials import augmentation, build_rheology, friction_law
-from granflow.scenarios.mobilisation import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table

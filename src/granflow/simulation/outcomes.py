@@ -71,7 +71,6 @@ class RunResult:
     rejected_steps: int
     nonlinear_iterations: int
     linear_solves: int
-    unconverged_steps: int           # accepted without convergence: always 0 now
     wall_time_s: float
     rejections: dict[str, int] = field(default_factory=dict)
     skipped_remeshes: int = 0        # quality remeshes that failed: the run went on without

@@ -128,7 +128,6 @@ class Simulation:
     rejected_steps: int = 0
     nonlinear_iterations: int = 0
     momentum_solves: int = 0
-    unconverged_steps: int = 0
     skipped_remeshes: int = 0
     history_restarts: int = 0            # steps begun afresh after a jump of the forcing
     remeshed_this_step: bool = False
@@ -160,7 +159,6 @@ class Simulation:
             "rejected_steps": self.rejected_steps,
             "nonlinear_iterations": self.nonlinear_iterations,
             "momentum_solves": self.momentum_solves,
-            "unconverged_steps": self.unconverged_steps,
             "skipped_remeshes": self.skipped_remeshes,
             "history_restarts": self.history_restarts,
             "rejections": dict(self.rejections),
@@ -173,7 +171,7 @@ class Simulation:
 
     def restore_state(self, state: dict[str, Any]) -> None:
         for key in ("t", "step", "dt", "rejected_steps", "nonlinear_iterations",
-                    "momentum_solves", "unconverged_steps"):
+                    "momentum_solves"):
             setattr(self, key, state[key])
         self.rejections = dict(state["rejections"])
         self.skipped_remeshes = int(state.get("skipped_remeshes", 0))
@@ -336,8 +334,7 @@ class Simulation:
             status=status, message=message, t_final=self.t, steps=self.step,
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
-            linear_solves=self.linear_solves, unconverged_steps=self.unconverged_steps,
-            wall_time_s=wall, rejections=dict(self.rejections),
+            linear_solves=self.linear_solves, wall_time_s=wall, rejections=dict(self.rejections),
             skipped_remeshes=self.skipped_remeshes, history_restarts=self.history_restarts)
 
     def _accept(self, attempt: _Attempt) -> None:

@@ -212,4 +212,4 @@ def step_policy(config: Config) -> StepPolicy:
                             error_tol=tm.error_tol, error_floor=tm.error_floor, stops=stops,
                             order=2 if tm.scheme == "bdf2" else 1)
     return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
-                      tol=num.tol, tol_init=num.tol_init or num.tol, stops=stops)
+                      tol=num.tol, tol_init=num.tol_start, stops=stops)
