@@ -13,8 +13,8 @@ steps. A finished run is not run again, one with a checkpoint is resumed
 ``--collect`` runs nothing and tabulates what is there. OUT/erosion_layers.json holds the
 summaries' figures, OUT/erosion_layers.md the table with each figure's change from the
 previous (coarser) level, then every run against the finest isotropic run of its slope (the
-reference) with the accuracy it must keep (ACCURACY: runout 0.5 %, flow duration 1 %,
-displaced and mobilised areas 1 % and 5 %). ``--against`` runs nothing: it compares the
+reference) with the accuracy it must keep (ACCURACY: runout 1 %, flow duration 2 %,
+displaced and mobilised areas 2 % and 5 %). ``--against`` runs nothing: it compares the
 given run directories (e.g. `granflow run trapezoid-erodible` at its defaults) with that
 reference and writes OUT/against_reference.json.
 """
@@ -33,7 +33,7 @@ KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "wall_time_s", "n_
         "layer_area_drift", "layer_area_drift_max", "volume_relative_error"]
 COMPARED = ["runout_m", "column_front_m", "duration_s", "stop_time_s",
             "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "layer_area_drift_max"]
-ACCURACY = {"runout_m": 0.005, "duration_s": 0.01, "layer_displaced_area_m2": 0.01,
+ACCURACY = {"runout_m": 0.01, "duration_s": 0.02, "layer_displaced_area_m2": 0.02,
             "layer_mobilised_area_max_m2": 0.05}      # relative, against the reference
 
 

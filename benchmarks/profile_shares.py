@@ -23,7 +23,7 @@ import tempfile
 from collections import Counter
 from pathlib import Path
 
-from common.results import write_json
+from common.results import write_json, write_markdown
 
 CATEGORIES = [   # (name, patterns of a frame "Class.method (path:line)"), first match wins
     ("factorisation (sparse LU)", [r"update \(.*fem/linalg\.py", r"Inverse"]),
@@ -31,9 +31,10 @@ CATEGORIES = [   # (name, patterns of a frame "Class.method (path:line)"), first
     ("assembly (matrix and right-hand side of (3.2))", [r"[aA]ssemble\w* \("]),
     ("output (VTU, profiles, frames, figures, animation)", [r"granflow/io/", r"matplotlib"]),
     ("mesh velocity (3.6) and the mesh move", [r"mesh_motion\.py", r"column_mover\.py"]),
+    ("mesh-size field (adaptive mesh)", [r"size_field\.py", r"column_sizes\.py"]),
     ("remeshing and transfer", [r"remesh\.py", r"transfer\.py", r"column_remesher\.py"]),
-    ("surface tension, deposition, layer tracking",
-     [r"surface_tension\.py", r"deposition\.py", r"layer_material\.py", r"column_layer\.py"]),
+    ("surface tension and deposition", [r"surface_tension\.py", r"deposition\.py"]),
+    ("erodible layer tracking", [r"layer_material\.py", r"column_layer\.py"]),
     ("nonlinear iteration (norms, vectors, mixing, dual)",
      [r"nonlinear\.py", r"anderson\.py", r"primal_dual\.py"]),
     ("step acceptance, error estimate and diagnostics",
@@ -70,6 +71,7 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--set", dest="overrides", action="append", default=[])
     parser.add_argument("--src", type=Path, help="an earlier checkout's src folder")
     parser.add_argument("--rate", type=int, default=50)
+    parser.add_argument("--raw", type=Path, help="also keep py-spy's raw stacks there")
     parser.add_argument("--out", type=Path,
                         default=Path("benchmarks/results/profile_shares/profile.json"))
     args = parser.parse_args(argv)
@@ -84,6 +86,8 @@ def main(argv: list[str]) -> None:
                    *(a for o in args.overrides for a in ("--set", o))]
         subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL)
         found, samples = shares(raw.read_text())
+        if args.raw is not None:
+            write_markdown(args.raw, raw.read_text())
         summary = json.loads((Path(tmp) / "run" / "summary.json").read_text())
     for name, share in found.items():
         print(f"{100 * share:5.1f} %  {name}")

@@ -2,7 +2,8 @@
 against an earlier version of granflow, each run as users run it, side by side.
 
 Run: python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
-         [--pairs trapezoid cylinder slope22] [--out benchmarks/results/speed_targets]
+         [--pairs trapezoid cylinder slope22] [--src PATH --tag before]
+         [--out benchmarks/results/speed_targets]
 
 Every run is ``granflow run SCENARIO --quiet`` in a new process (figures and animation
 included), one after the other and alternating within each pair, so that both members of a
@@ -13,12 +14,19 @@ changes least) and wall time, and their ratios, are reported with each run's loo
 
 * trapezoid: ``trapezoid-erodible`` against ``trapezoid-rigid``;
 * cylinder: ``cylinder-erodible`` against ``cylinder-rigid``;
-* slope22: the slope study's 22-degree erodible trapezoid (``erosion_slopes.py``: 5 mm,
-  layer 1.3 times the rigid runout, meshed 0.1 m ahead of the flow) against its rigid twin;
+* slope22: the slope study's 22-degree row of the glass beads' mu(I) (``erosion_slopes.py``,
+  variant ``glass-beads``: the rectangle over 5 mm, the layer 1.3 times its rigid twin's
+  front at 3 s, meshed 0.1 m ahead of the flow, to rest or to 3 s) against its rigid twin;
 * baseline (with ``--baseline-src``, the ``src`` folder of a checkout of an earlier
   commit): ``trapezoid-rigid`` run by that code (``PYTHONPATH``) against this one.
 
-Writes OUT/speed_targets.json and prints a table.
+The targets (``TARGETS``): the erodible trapezoid at most 2.5 and the erodible cylinder at
+most 2 times their rigid twins' processor time, the 22-degree erodible row in at most 300 s
+of processor time. ``--src PATH --tag NAME`` runs the pairs with an earlier checkout's code
+and files them under NAME (e.g. ``before``): the table then shows each erodible run's
+triangles, steps and iterations before and after.
+
+Writes OUT/speed_targets.json and OUT/speed_targets.md and prints the tables.
 """
 
 from __future__ import annotations
@@ -36,17 +44,23 @@ from pathlib import Path
 from common.results import read_results, report, write_json, write_markdown
 from erosion_slopes import overrides as slope_overrides
 
-RIGID_22_RUNOUT_M = 4.5125   # the slope study's rigid trapezoid at 22 degrees (its JSON)
+# the glass beads' rigid rectangle at 22 degrees: its front at t = 3 s, still moving
+# (``granflow run rectangle-rigid`` with ``slope_overrides("glass-beads", "rectangle", 0, 22)``)
+RIGID_22_FRONT_M = 2.8946
 PAIRS = {
     "trapezoid": (("trapezoid-rigid", []), ("trapezoid-erodible", [])),
     "cylinder": (("cylinder-rigid", []), ("cylinder-erodible", [])),
-    "slope22": (("trapezoid-rigid", slope_overrides("drucker-prager", "trapezoid", 0.0, 22.0,
+    "slope22": (("rectangle-rigid", slope_overrides("glass-beads", "rectangle", 0.0, 22.0,
                                                      None)),
-                ("trapezoid-rigid", slope_overrides("drucker-prager", "trapezoid", 0.005, 22.0,
-                                                     RIGID_22_RUNOUT_M))),
+                ("rectangle-rigid", slope_overrides("glass-beads", "rectangle", 0.005, 22.0,
+                                                     RIGID_22_FRONT_M))),
 }
+# pair: (what is measured, at most): the processor-time ratio erodible / rigid, or the
+# erodible run's processor time (s)
+TARGETS = {"trapezoid": ("ratio", 2.5), "cylinder": ("ratio", 2.0),
+           "slope22": ("processor time (s)", 300.0)}
 KEYS = ["status", "wall_time_s", "steps", "nonlinear_iterations", "n_triangles",
-        "stop_time_s", "runout_m"]
+        "remeshes", "stop_time_s", "runout_m"]
 
 
 def run(scenario: str, sets: list[str], out: Path, src: Path | None = None) -> dict:
@@ -94,6 +108,39 @@ def compare(name: str, first: tuple[str, list[str], Path | None],
             "loop_ratio_second_to_first": loop["second"] / loop["first"]}
 
 
+def target_lines(results: dict) -> list[str]:
+    """Each pair's measure against its target (``TARGETS``)."""
+    lines = ["| pair | measure | measured | target (at most) | met |", "|---|---|---|---|---|"]
+    for name, (measure, limit) in TARGETS.items():
+        if name not in results:
+            continue
+        r = results[name]
+        value = (r["cpu_ratio_second_to_first"] if measure == "ratio"
+                 else r["process_cpu_time_median_s"]["second"])
+        lines.append(f"| {name} | {measure} | {value:.2f} | {limit:g} | "
+                     f"{'yes' if value <= limit else 'no'} |")
+    if "slope22" in results:    # its ratio too: the third side-by-side ratio
+        lines.append(f"| slope22 | ratio | {results['slope22']['cpu_ratio_second_to_first']:.2f}"
+                     " | - | - |")
+    return lines
+
+
+def before_after_lines(results: dict, tag: str) -> list[str]:
+    """The erodible run of each pair with the code filed under ``tag`` and this one."""
+    lines = [f"| pair | triangles, {tag} / now | steps | iterations | remeshes "
+             "| processor time (s) |", "|---|---|---|---|---|---|"]
+    for name in PAIRS:
+        if name not in results or f"{tag}/{name}" not in results:
+            continue
+        old, new = results[f"{tag}/{name}"], results[name]
+        rows = [r["runs"]["second"][0] for r in (old, new)]
+        cells = [f"{rows[0].get(k)} / {rows[1].get(k)}" for k in
+                 ("n_triangles", "steps", "nonlinear_iterations", "remeshes")]
+        cpu = [r["process_cpu_time_median_s"]["second"] for r in (old, new)]
+        lines.append(f"| {name} | {' | '.join(cells)} | {cpu[0]:.0f} / {cpu[1]:.0f} |")
+    return lines
+
+
 def main(argv: list[str]) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", nargs="*", default=list(PAIRS), choices=list(PAIRS),
@@ -102,11 +149,18 @@ def main(argv: list[str]) -> None:
                         help="src folder of an earlier granflow checkout: time its default "
                              "collapse against this one's")
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--src", type=Path,
+                        help="src folder of an earlier checkout: run the pairs with its code")
+    parser.add_argument("--tag", default="",
+                        help="file the pairs under TAG/PAIR (with --src, e.g. before)")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed_targets"))
     args = parser.parse_args(argv)
     results_file = args.out / "speed_targets.json"
     results = read_results(results_file)
-    cases = {name: ((*PAIRS[name][0], None), (*PAIRS[name][1], None)) for name in args.pairs}
+    src = args.src.resolve() if args.src is not None else None
+    prefix = f"{args.tag}/" if args.tag else ""
+    cases = {prefix + name: ((*PAIRS[name][0], src), (*PAIRS[name][1], src))
+             for name in args.pairs}
     if args.baseline_src is not None:
         cases["baseline"] = (("trapezoid-rigid", [], args.baseline_src.resolve()),
                              ("trapezoid-rigid", [], None))
@@ -123,6 +177,10 @@ def main(argv: list[str]) -> None:
                      f"{c['first']:.1f} / {c['second']:.1f} | {r['cpu_ratio_second_to_first']:.2f} "
                      f"| {p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} "
                      f"| {its[0]} / {its[1]} |")
+    tags = sorted({k.split("/")[0] for k in results if "/" in k})
+    lines += ["", *target_lines(results)]
+    for tag in tags:
+        lines += ["", *before_after_lines(results, tag)]
     write_markdown(args.out / "speed_targets.md", lines, show=True)
 
 

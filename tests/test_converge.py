@@ -66,6 +66,18 @@ def test_space_levels_halve_the_mesh_and_double_the_layer_cells() -> None:
     assert both == {**level_overrides(rigid, "time", 1), **level_overrides(rigid, "space", 1)}
 
 
+def test_margin_levels_widen_the_adaptive_mesh_s_fine_region() -> None:
+    erodible = load_config("trapezoid-erodible", ["mesh.flow_margin=1.5",
+                                                  "mesh.layer_rest_coarsening=8"])
+    assert level_overrides(erodible, "margin", 2) == {"mesh.flow_margin": 6.0,
+                                                      "mesh.layer_rest_coarsening": 2.0}
+    rigid = load_config("trapezoid-rigid", ["mesh.rest_coarsening=2"])
+    assert level_overrides(rigid, "margin", 1) == {"mesh.flow_margin": 6.0}
+    uniform = load_config("trapezoid-erodible", ["mesh.adaptive=false"])
+    with pytest.raises(ConvergeError, match="mesh.adaptive = false"):
+        level_overrides(uniform, "margin", 1)
+
+
 def test_a_study_s_levels_are_explicit_overrides_on_the_user_s() -> None:
     study = Study("rectangle-rigid", "space", 3, ("mesh.size=0.04",))
     runs = study.runs()

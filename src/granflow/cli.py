@@ -6,7 +6,7 @@
     granflow resume RUN_DIR [--set key=value ...] [--quiet]
     granflow plot RUN_DIR [--format png|pdf|svg] [--dpi N]
     granflow sweep SWEEP.toml|STUDY [--scheduler ADDRESS] [--workers N] [--out DIR]
-    granflow converge SCENARIO|FILE [--in time|space|both|tolerance|rest] [--levels N]
+    granflow converge SCENARIO|FILE [--in time|space|both|tolerance|rest|margin] [--levels N]
                       [--set key=value ...]
                       [--tolerances NAME=VALUE,...] [--scheduler ADDRESS] [--workers N]
                       [--out DIR]

@@ -48,8 +48,8 @@ __all__ = ["DEFAULT_TOLERANCES", "MAX_LEVELS", "MIN_LEVELS", "MODES", "OPTIONAL_
            "level_overrides", "observed_order", "orders", "parse_tolerances", "run_study",
            "write_report"]
 
-MODES = ("time", "space", "both", "tolerance", "rest")
-PARAMETER_MODES = ("tolerance", "rest")   # a numerical parameter tightened, not a resolution
+MODES = ("time", "space", "both", "tolerance", "rest", "margin")
+PARAMETER_MODES = ("tolerance", "rest", "margin")   # a numerical parameter, not a resolution
 MIN_LEVELS, MAX_LEVELS = 2, 6
 TOL_STEP = math.sqrt(10.0)   # numerics.tol is divided by this per level (two levels a decade)
 SCHEME_ORDER = {"implicit-euler": 1, "bdf2": 2}   # order q of the time scheme
@@ -97,7 +97,9 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
     they set the resolution), and an erodible layer gets twice the ``mesh.layer_cells``.
     tolerance: ``numerics.tol`` is divided by TOL_STEP per level (and the ramp's
     ``numerics.tol_init`` capped at it). rest: the rest rule's ``time.rest_fraction`` is
-    halved and its ``time.rest_duration`` doubled per level.
+    halved and its ``time.rest_duration`` doubled per level. margin: the adaptive mesh's
+    ``mesh.flow_margin`` is doubled and its ``mesh.layer_rest_coarsening`` halved (to 1) per
+    level: its fine region grows towards the uniform mesh.
     """
     if mode not in MODES:
         raise ConvergeError(f"--in = {mode!r}: expected one of {', '.join(MODES)}")
@@ -112,6 +114,13 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
     if mode == "rest":
         out["time.rest_fraction"] = t.rest_fraction / factor
         out["time.rest_duration"] = t.rest_duration * factor
+    if mode == "margin":
+        if not m.adaptive:
+            raise ConvergeError("--in margin: the case has mesh.adaptive = false; its margin "
+                                "changes nothing (set mesh.adaptive=true)")
+        out["mesh.flow_margin"] = min(m.flow_margin * factor, 100.0)
+        if g.erodible_thickness > 0:
+            out["mesh.layer_rest_coarsening"] = max(m.layer_rest_coarsening / factor, 1.0)
     if mode in ("time", "both"):
         if t.dt is not None:
             out["time.dt"] = t.dt / factor

@@ -51,11 +51,17 @@ ALTERNATIVE = {
     "numerics.anderson_depth": 0,   # a few steps never fill a history deeper than three
     "material.fluidity_time": 0.01,   # its only other literal is the current "inertial"
     "initial.fluidity": 0.5,
+    "mesh.layer_rest_coarsening": 1.0,   # larger ones are capped by mesh.size on this mesh
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],
     "mesh.remesh_quality": ["time.t_end=0.1"],   # long enough for the mesh to degrade
     "mesh.layer_ahead": ["geometry.bed_length=0.5"],   # longer than the column + 0.1 m
+    # the adaptive mesh's sizes at rest act from the first remesh, over a layer long enough
+    # to rest beyond the flow's reach
+    "mesh.rest_coarsening": ["time.t_end=0.1"],
+    "mesh.layer_rest_coarsening": ["geometry.bed_length=0.8"],
+    "mesh.flow_margin": ["geometry.bed_length=0.8"],
 }
 # Keys whose effect needs a run to rest or a fold that releases: a few steps cannot show
 # it, so a test of the part they drive shows it instead (named here).

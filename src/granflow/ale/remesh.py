@@ -84,7 +84,8 @@ class Remeshed:
 def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
            measure: PolygonMeasure = AREA, layer_end: float | None = None,
            layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC,
-           bed: BedProfile | None = None) -> Remeshed:
+           bed: BedProfile | None = None, maxh: float | None = None,
+           restrict: np.ndarray | None = None) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -103,7 +104,9 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     ``layer_end``, if given, moves the far end of an erodible layer there, the new stretch
     of layer ``layer_top`` thick (``lengthen_layer``); its size is ``area_added``.
     ``stretch``: the layer's cells stretched along it, as the first mesh made them
-    (``edge_size`` then gives lengths in the stretched coordinates).
+    (``edge_size`` then gives lengths in the stretched coordinates). ``maxh`` (default
+    ``size``) is the largest edge and ``restrict`` (k, 3) the points (x, z, h) where the
+    mesh must be finer (a size field from the flow, ``ale/size_field.py``).
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
@@ -129,8 +132,9 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
         raise RuntimeError("the free surface folded through itself and merging close surface "
                            "nodes does not untangle it; cannot remesh")
     points = [tuple(p) for p in pts]
-    new = polygon_mesh(points, edge_labels, size, boundary_edge_sizes(points, edge_size),
-                       stretch=stretch)
+    new = polygon_mesh(points, edge_labels, size if maxh is None else maxh,
+                       boundary_edge_sizes(points, edge_size), stretch=stretch,
+                       restrict=restrict)
     return Remeshed(new, restored, added)
 
 

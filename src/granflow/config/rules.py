@@ -280,7 +280,8 @@ def inert_keys(c: Config) -> dict[str, str]:
             "boundary.normal_load numerics.eps_friction boundary.bed_fluidity",
             "the periodic layer has a no-slip bed and no walls")
         add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells mesh.layer_ahead "
-            "mesh.layer_aspect "
+            "mesh.layer_aspect mesh.adaptive mesh.rest_coarsening mesh.layer_rest_coarsening "
+            "mesh.flow_margin "
             "numerics.volume_correction time.stop_at_rest time.rest_fraction "
             "time.rest_duration surface_tension.enabled surface_tension.delta "
             "surface_tension.gamma0 surface_tension.trigger_angle_deg "
@@ -296,8 +297,15 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("boundary.wall_friction_deg", "geometry.axisymmetric = true: x = 0 is the "
                 "symmetry axis (u_r = 0, no friction), not a wall")
         if g.erodible_thickness == 0:
-            add("geometry.bed_length mesh.layer_cells mesh.layer_ahead mesh.layer_aspect",
+            add("geometry.bed_length mesh.layer_cells mesh.layer_ahead mesh.layer_aspect "
+                "mesh.layer_rest_coarsening",
                 "it describes the erodible layer, and geometry.erodible_thickness = 0")
+        if not c.mesh.adaptive:
+            add("mesh.rest_coarsening mesh.layer_rest_coarsening mesh.flow_margin",
+                "mesh.adaptive = false (the mesh is uniform)")
+        elif g.erodible_thickness == 0 and c.mesh.rest_coarsening == 1:
+            add("mesh.adaptive mesh.flow_margin", "over a rigid bed with mesh.rest_coarsening "
+                "= 1 the mesh keeps mesh.size everywhere: there is nothing to adapt")
         if c.boundary.channel_width is None:
             add("boundary.side_wall_friction_deg", "boundary.channel_width = none (no side walls)")
         if g.shape == "rectangle":

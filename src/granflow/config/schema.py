@@ -233,6 +233,10 @@ class Mesh(_Section):
     layer_cells: Annotated[int, Field(ge=1, le=16)]  # cells across an erodible layer
     layer_aspect: Annotated[float, Field(ge=1, le=32)]  # their length along it / across it
     layer_ahead: Annotated[float, Field(ge=0, le=1e3)]  # meshed layer ahead of the flow (m)
+    adaptive: bool  # column: sizes from the flow (fine where it moves); false: uniform
+    rest_coarsening: Annotated[float, Field(ge=1, le=16)]  # bulk at rest: mesh.size x this
+    layer_rest_coarsening: Annotated[float, Field(ge=1, le=64)]  # layer at rest: its cells x
+    flow_margin: Annotated[float, Field(ge=0.5, le=100)]  # x mesh.size around moving material
 
 
 class Numerics(_Section):

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import ngsolve as ngs
 import numpy as np
 from netgen.geom2d import SplineGeometry
-from netgen.meshing import Element1D, Element2D, MeshPoint, Pnt
+from netgen.meshing import Element1D, Element2D, MeshingParameters, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
@@ -51,7 +51,8 @@ def signed_areas(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray
 def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
                  size: float, edge_sizes: Sequence[float] | None = None,
                  interior: Sequence[tuple[int, int, float]] = (),
-                 stretch: LayerStretch = ISOTROPIC) -> ngs.Mesh:
+                 stretch: LayerStretch = ISOTROPIC,
+                 restrict: np.ndarray | None = None) -> ngs.Mesh:
     """Netgen triangulation of a labelled polygon, without corner triangles.
 
     ``edge_sizes[i]`` (default ``size``) is the target length on edge i, from which Netgen
@@ -61,7 +62,9 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     overturning front lands on the bed; such corner triangles are removed by flipping
     their interior edge. With ``stretch``, the polygon is meshed in its stretched
     coordinates (``geometry/stretch.py``), where sizes are given, and mapped back: cells
-    along a thin layer come out long and flat.
+    along a thin layer come out long and flat. ``restrict`` (k, 3) holds points (x, z) and
+    the largest edge h there (in the stretched coordinates), Netgen's local mesh-size
+    restrictions (``MeshingParameters.RestrictH``), from which it grades the rest.
     """
     geo = SplineGeometry()
     split, edge = stretch.split(np.asarray(points, dtype=float))
@@ -79,7 +82,14 @@ def polygon_mesh(points: Sequence[tuple[float, float]], labels: Sequence[str],
     for i, j, h in interior:
         geo.Append(["line", ids[i], ids[j]], bc=INTERIOR, leftdomain=1, rightdomain=1,
                    maxh=min(size, h))
-    ngmesh = geo.GenerateMesh(maxh=size)
+    if restrict is None or not len(restrict):
+        ngmesh = geo.GenerateMesh(maxh=size)
+    else:
+        parameters = MeshingParameters(maxh=size)
+        at = stretch.forward(np.asarray(restrict, dtype=float)[:, :2])
+        for (x, y), h in zip(at, np.asarray(restrict)[:, 2], strict=True):
+            parameters.RestrictH(float(x), float(y), 0.0, float(h))
+        ngmesh = geo.GenerateMesh(mp=parameters)
     xy = np.array([[p[0], p[1]] for p in ngmesh.Points()])
     tri = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
     seg = ngmesh.Elements1D().NumPy()

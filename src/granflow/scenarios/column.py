@@ -35,6 +35,7 @@ from granflow.scenarios.column_discretisation import (
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures
 from granflow.scenarios.column_remesher import ColumnRemesher
+from granflow.scenarios.column_sizes import initial_size_field
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import layer_material
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
@@ -120,11 +121,17 @@ def build_column(config: Config) -> ColumnCollapse:
     scene = column_scene(config)
     polygon = scene.local or scene.polygon      # a built-in shape: meshed in its frame
     fine = layer_cell_size(config) if geo.erodible_thickness > 0 else config.mesh.size
-    sizes = layer_edge_sizes(config)
-    mesh = polygon_mesh(polygon.points, polygon.labels, config.mesh.size,
+    field = initial_size_field(config, layer_end(config, geo.width))
+    sizes = layer_edge_sizes(config) if field is None else field.edge_size(scene.bed.height)
+    restrict = None
+    if field is not None:      # the size field's points, in the frame the shape is meshed in
+        points = field.restrictions(scene.bed.z)
+        restrict = np.column_stack([scene.to_local(points[:, :2]), points[:, 2]])
+    mesh = polygon_mesh(polygon.points, polygon.labels,
+                        config.mesh.size if field is None else field.maxh,
                         boundary_edge_sizes(scene.to_lab(np.asarray(polygon.points)), sizes),
                         interior=[(i, j, fine) for i, j in polygon.interior],
-                        stretch=layer_stretch(config))
+                        stretch=layer_stretch(config), restrict=restrict)
     xy = mesh.ngmesh.Coordinates()
     local = xy.copy()
     if scene.frame is not None:                 # and turned onto the bed profile
@@ -150,7 +157,7 @@ def build_column(config: Config) -> ColumnCollapse:
                             max_iterations=config.numerics.max_iterations,
                             mesh_motion=current.mover,
                             velocity_floor=config.numerics.velocity_floor)
-    remesher = ColumnRemesher(config, current, simulation, layer=layer)
+    remesher = ColumnRemesher(config, current, simulation, layer=layer, size_field=field)
     measures = ColumnMeasures(config, current, remesher, simulation,
                               inertial=_inertial_numbers(current.solver.rheology))
     simulation.remesher = remesher

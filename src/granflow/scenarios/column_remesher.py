@@ -18,6 +18,7 @@ import numpy as np
 
 from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.remesh import remesh, shape_quality
+from granflow.ale.size_field import SizeField
 from granflow.ale.transfer import StateTransfer, transfer_tensor, transfer_vertices
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
@@ -31,17 +32,24 @@ from granflow.scenarios.column_discretisation import (
     layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
+from granflow.scenarios.column_sizes import refit_due, refitted, remesh_sizes
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.state_spec import (
     COUNT,
+    FLAG,
     REAL,
     Share,
+    array,
     list_of,
     may_lack,
     number,
+    record,
     tuple_of,
 )
+
+SIZE_FIELD: Share = {   # ``SizeField.state``: the layer's windows and the moving points
+    "windows": array(None, 2), "moving": array(None, 2), "bulk_fine_everywhere": FLAG}
 
 
 @dataclass
@@ -60,9 +68,12 @@ class ColumnRemesher:
     mobilisation: MobilisationTracking | None = None   # a hysteretic friction's state
     lengthenings: int = 0          # times the meshed layer was lengthened (mesh.layer_ahead)
     added: float = 0.0             # the layer area (r-z: volume) they added
+    size_field: SizeField | None = None   # mesh.adaptive: the sizes the mesh was made with
+    refits: int = 0                # remeshes because the mesh no longer fit the flow
     share: ClassVar[Share] = {     # its share of a checkpoint (``save_state``)
         "remeshes": COUNT, "fresh_quality": number(0.0), "remesh_changes": list_of(REAL),
-        "remesh_restored": list_of(REAL), "layer_lengthened": may_lack(tuple_of(COUNT, REAL))}
+        "remesh_restored": list_of(REAL), "layer_lengthened": may_lack(tuple_of(COUNT, REAL)),
+        "size_field": may_lack(record(SIZE_FIELD)), "refits": may_lack(COUNT)}
 
     @property
     def stretch(self) -> LayerStretch:
@@ -77,7 +88,14 @@ class ColumnRemesher:
         floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
         degraded = floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
         return (degraded or self.layer_end_due() is not None
-                or self.current.mover.straddles_corner())
+                or self.current.mover.straddles_corner() or self.refit_due())
+
+    def refit_due(self) -> bool:
+        """An adaptive mesh no longer fits the flow: it has come within half of
+        mesh.flow_margin of coarse cells, or left much of the fine mesh at rest
+        (``column_sizes.refit_due``)."""
+        return self.size_field is not None and refit_due(self.config, self.current,
+                                                         self.size_field)
 
     def layer_end_due(self) -> float | None:
         """The meshed layer's new end when material faster than the flowing threshold has
@@ -103,10 +121,16 @@ class ColumnRemesher:
     def remesh(self) -> None:
         """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it."""
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
-        remeshed = remesh(old.mesh, self.config.mesh.size, layer_edge_sizes(self.config),
-                          old.mover.measure, layer_end=self.layer_end_due(),
-                          layer_top=self.config.geometry.erodible_thickness,
-                          stretch=self.stretch, bed=old.mover.support.bed)
+        end = self.layer_end_due()
+        sizes: dict = {"edge_size": layer_edge_sizes(self.config)}
+        if self.size_field is not None:      # refitted to the flow at t^n
+            self.refits += self.refit_due()
+            self.size_field = refitted(self.config, old, self.size_field,
+                                       old.mover.end_x if end is None else end)
+            sizes = remesh_sizes(self.config, self.size_field)
+        remeshed = remesh(old.mesh, self.config.mesh.size, measure=old.mover.measure,
+                          layer_end=end, layer_top=self.config.geometry.erodible_thickness,
+                          stretch=self.stretch, bed=old.mover.support.bed, **sizes)
         new = discretise(self.config, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
         added = remeshed.area_added
@@ -140,12 +164,16 @@ class ColumnRemesher:
         if self.config.mesh.layer_ahead > 0 and self.config.geometry.erodible_thickness > 0:
             out |= {"layer_lengthenings": self.lengthenings, "layer_added": self.added,
                     "layer_meshed_end_m": self.current.mover.end_x}
+        if self.size_field is not None:
+            out["adaptive_refits"] = self.refits
         return out
 
     def save_state(self) -> dict[str, Any]:
         return {"remeshes": self.remeshes, "fresh_quality": self.fresh_quality,
                 "remesh_changes": list(self.changes), "remesh_restored": list(self.restored),
-                "layer_lengthened": [self.lengthenings, self.added]}
+                "layer_lengthened": [self.lengthenings, self.added],
+                **({} if self.size_field is None else {
+                    "size_field": self.size_field.state(), "refits": self.refits})}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         self.remeshes, self.fresh_quality = state["remeshes"], state["fresh_quality"]
@@ -153,3 +181,6 @@ class ColumnRemesher:
         self.restored = list(state["remesh_restored"])
         count, added = state.get("layer_lengthened", (0, 0.0))
         self.lengthenings, self.added = int(count), float(added)
+        if self.size_field is not None and "size_field" in state:
+            self.size_field = self.size_field.from_state(state["size_field"])
+            self.refits = int(state["refits"])
