@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from granflow.config import Config
+from granflow.config.kinds import erodible_layer
 from granflow.config.schema import Material
 from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
 from granflow.physics.hysteresis import Hysteretic, Relaxation
@@ -84,8 +85,7 @@ def layer_material(config: Config) -> Material | None:
     """The erodible layer's material: [material] with the keys [layer] sets over it, or
     None when the layer is the column's material (one material: the law and density of
     [material] everywhere, exactly as without the [layer] section)."""
-    geo = config.geometry
-    if geo.kind != "column" or geo.erodible_thickness <= 0:
+    if not erodible_layer(config):
         return None
     own = {k: v for k, v in config.layer.model_dump().items() if v is not None}
     layer = config.material.model_copy(update=own)

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from granflow.config import Config
 from granflow.io.replot import figure_config, figure_files
 from granflow.io.run_dir import RunDir, RunDirError
+from granflow.scenarios import BUILT_IN
 from granflow.simulation.outputs import Figure
 from granflow.simulation.simulation import Simulation
 
@@ -65,13 +66,10 @@ def register(name: str, build: Builder, figures: Sequence[Figure] = ()) -> Probl
     return kind
 
 
-BUILT_IN = ("granflow.scenarios.column", "granflow.scenarios.plug_flow")
-
-
 def _load_built_in() -> None:
-    """Import the built-in kinds' modules: each registers its own."""
-    for module in BUILT_IN:
-        importlib.import_module(module)
+    """Import the built-in kinds' builders: each registers its own."""
+    for _, builder in BUILT_IN:
+        importlib.import_module(builder)
 
 
 def problem_kind(name: str) -> ProblemKind:
