@@ -14,6 +14,8 @@ from granflow.config.cost import cost_problems
 from granflow.config.kinds import erodible_layer, rules_of
 from granflow.config.messages import fmt_value
 from granflow.config.schema import Layer, Material
+from granflow.physics.laws import FRICTIONS, RHEOLOGIES
+from granflow.physics.laws import checks as law_checks
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
@@ -59,25 +61,18 @@ def problems(c: Config) -> Iterator[str]:
                f"{MAX_TRIANGLES} triangles allowed); use mesh.size >= {smallest:.2g}")
     yield from _layer_problems(c)
     yield from cost_problems(c)
+    for section, mat in _materials(c).items():
+        yield from law_checks(mat, section)
     yield from _friction_problems(c)
     yield from _nonlocal_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
                f"'drucker-prager' (not {mat.rheology!r})")
-    if mat.rheology == "mu-i":
-        if mat.mu_2_deg <= mat.friction_angle_deg:
-            yield (f"material.mu_2_deg = {mat.mu_2_deg!r} must be greater than "
-                   f"material.friction_angle_deg = {mat.friction_angle_deg!r} (mu(I) rises "
-                   "from mu_s to mu_2)")
-        if mat.grain_density < mat.density:
-            yield (f"material.grain_density = {mat.grain_density!r} must be at least "
-                   f"material.density = {mat.density!r} (their ratio is the packing fraction)")
 
 
 def _layer_problems(c: Config) -> Iterator[str]:
-    """A layer of its own material ([layer]): one the regularised law can carry, and a
-    consistent mu(I) if it has one."""
+    """A layer of its own material ([layer]): one the regularised law can carry."""
     own = {k: v for k, v in c.layer.model_dump().items() if v is not None}
     if not own or not erodible_layer(c):
         return
@@ -85,17 +80,9 @@ def _layer_problems(c: Config) -> Iterator[str]:
             c.material):
         yield (f"numerics.method = 'augmented-lagrangian' needs one material, and [layer] sets "
                f"{', '.join(f'layer.{k}' for k in own)}; use numerics.method = 'regularized'")
-    layer = c.material.model_copy(update=own)
-    if layer.rheology == "mu-i" and layer.mu_2_deg <= layer.friction_angle_deg:
-        yield (f"layer.mu_2_deg = {layer.mu_2_deg!r} must be greater than the layer's "
-               f"friction angle {layer.friction_angle_deg!r} (mu(I) rises from mu_s to mu_2)")
-    if layer.rheology == "mu-i" and layer.grain_density < layer.density:
-        yield (f"layer.grain_density = {layer.grain_density!r} must be at least the layer's "
-               f"density {layer.density!r} (their ratio is the packing fraction)")
 
 
-HYSTERESIS_KEYS = ("start_friction_angle_deg", "mobilisation_time", "rest_time",
-                   "mobilisation_shear_rate", "initial_mobilisation")
+HYSTERESIS_KEYS = FRICTIONS["hysteretic"].keys
 CREEP_MARGIN = 100.0   # mobilisation_shear_rate / eps at least: the creep of (2.13) at rest,
                        # eps ratio / sqrt(1 - ratio^2), passes it only within 5e-5 of yield
 
@@ -116,14 +103,10 @@ def _hysteretic_materials(c: Config) -> dict[str, Material]:
 
 
 def _friction_problems(c: Config) -> Iterator[str]:
-    """A hysteretic friction: the start friction at least the flow's, a threshold far above
-    the regularisation's creep, and a method that takes a friction field."""
+    """A hysteretic friction: a threshold far above the regularisation's creep, and a method
+    that takes a friction field."""
     materials = _hysteretic_materials(c)
     for section, mat in materials.items():
-        if mat.start_friction_angle_deg < mat.friction_angle_deg:
-            yield (f"{section}.start_friction_angle_deg = {mat.start_friction_angle_deg!r} must "
-                   f"be at least the friction angle {mat.friction_angle_deg!r} (the "
-                   "friction at rest is the larger)")
         if mat.mobilisation_shear_rate < CREEP_MARGIN * c.numerics.eps:
             yield (f"{section}.mobilisation_shear_rate = {mat.mobilisation_shear_rate!r} must be "
                    f"at least {CREEP_MARGIN:g} x numerics.eps = "
@@ -134,7 +117,7 @@ def _friction_problems(c: Config) -> Iterator[str]:
                "'regularized' with friction = 'hysteretic'")
 
 
-NONLOCAL_KEYS = ("nonlocal_amplitude", "nonlocal_b", "fluidity_time")
+NONLOCAL_KEYS = RHEOLOGIES["nonlocal"].keys
 
 
 def _nonlocal_materials(c: Config) -> dict[str, Material]:
@@ -143,9 +126,8 @@ def _nonlocal_materials(c: Config) -> dict[str, Material]:
 
 
 def _nonlocal_problems(c: Config) -> Iterator[str]:
-    """The nonlocal law: a positive static friction (its rest state's fluidity is
-    sqrt(2) eps / mu_s), grains denser than the bulk, no hysteretic friction beside it,
-    and both materials nonlocal or neither (one fluidity field across the interface)."""
+    """The nonlocal law: both materials nonlocal or neither (one fluidity field across the
+    interface)."""
     materials = _materials(c)
     nonlocal_ = _nonlocal_materials(c)
     if not nonlocal_:
@@ -154,17 +136,6 @@ def _nonlocal_problems(c: Config) -> Iterator[str]:
         yield (f"layer.rheology = {materials['layer'].rheology!r} beside material.rheology = "
                f"{c.material.rheology!r}: a nonlocal material needs the other one nonlocal "
                "too (one fluidity field crosses the interface); set both or neither")
-    for section, mat in nonlocal_.items():
-        if mat.friction_angle_deg <= 0:
-            yield (f"{section}.friction_angle_deg = {mat.friction_angle_deg!r} must be > 0 with "
-                   "rheology = 'nonlocal' (mu_s > 0 sets the fluidity of material at rest)")
-        if mat.friction == "hysteretic":
-            yield (f"{section}.friction = 'hysteretic' cannot be combined with rheology = "
-                   "'nonlocal': the fluidity already makes layers thinner than h_stop stop; "
-                   "use friction = 'constant'")
-        if mat.grain_density < mat.density:
-            yield (f"{section}.grain_density = {mat.grain_density!r} must be at least the "
-                   f"density {mat.density!r} (their ratio is the packing fraction)")
 
 
 def inert_keys(c: Config) -> dict[str, str]:
