@@ -13,11 +13,9 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from granflow.config.schema import ConfigModel as Config
-
+Config = Any    # a validated configuration (schema.py: ConfigModel, which asks this registry)
 Raw = dict[str, Any]     # a configuration's tables before validation
 
 

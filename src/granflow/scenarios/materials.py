@@ -75,7 +75,7 @@ def layer_material(config: Config) -> Material | None:
 def build_side_walls(config: Config) -> SideWallFriction | None:
     """The channel's side walls (``boundary.channel_width``), or None without them."""
     bnd = config.boundary
-    if bnd.channel_width is None or config.geometry.kind != "column":
+    if bnd.channel_width is None:      # (a periodic layer has none: the key is inert there)
         return None
     return SideWallFriction(bnd.channel_width, bnd.side_wall_friction_deg,
                             config.numerics.eps_friction)

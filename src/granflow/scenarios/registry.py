@@ -7,9 +7,10 @@ callbacks (``simulation/outputs.py``) declare every output. A figure is drawn fr
 directory's files alone (``granflow plot`` builds no problem) and draws nothing when the
 files it reads are not there (a layer's figure in a run without a layer).
 
-A new kind: its modules (the builder, the parts that measure it) under ``scenarios/``, its
-``register`` call there, its module in ``BUILT_IN`` and its name among the values of
-``geometry.kind``; its configuration keys go to ``config/`` as any parameter's.
+A new kind: its modules under ``scenarios/`` (the builder and the parts that measure it,
+with its ``register`` call; its ``KindRules`` for the configuration, ``config/kinds.py``)
+and its line of ``BUILT_IN`` (``scenarios/__init__.py``); new configuration keys go to
+``config/`` as any parameter's.
 """
 
 from __future__ import annotations
