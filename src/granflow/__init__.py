@@ -1,8 +1,9 @@
 """granflow: 2D viscoplastic granular flows with a free surface (regularised Drucker-Prager,
 Taylor-Hood finite elements, ALE), built on NGSolve.
 
-Importing the package is cheap: the finite-element engine is imported only by the modules
-that need it.
+Importing the package registers the built-in problem kinds with the configuration
+(``scenarios/__init__.py``); the finite-element engine is imported only by the modules that
+need it.
 """
 
 import os
@@ -33,3 +34,6 @@ def __getattr__(name: str) -> object:
 
         return getattr(importlib.import_module(_API[name]), name)
     raise AttributeError(f"module 'granflow' has no attribute {name!r}")
+
+
+from granflow import scenarios as _kinds  # noqa: E402,F401  (the built-in kinds register)

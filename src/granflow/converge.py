@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
+from granflow.config.kinds import rules_of
 from granflow.convergence_report import (
     DEFAULT_TOLERANCES,
     OPTIONAL_TOLERANCES,
@@ -93,8 +94,10 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
     for a scheme of order q) divide ``time.error_tol`` by 2^(q+1) and ``time.dt_max`` by 2
     per level, so the steps halve (``time.dt_init`` is capped at the new ``dt_max``); the
     paper's ramp halves ``time.dt_max`` and ``time.dt_init``.
-    space: ``mesh.size`` is halved (or ``mesh.cells_across`` / ``mesh.cells_x`` doubled where
-    they set the resolution), and an erodible layer gets twice the ``mesh.layer_cells``.
+    space: what the problem kind refines (``KindRules.refine_space``): a column halves
+    ``mesh.size`` (or doubles ``mesh.cells_across`` where it sets the resolution) and doubles
+    an erodible layer's ``mesh.layer_cells``; a periodic layer halves ``mesh.size`` (and
+    doubles ``mesh.cells_x`` where it is set).
     tolerance: ``numerics.tol`` is divided by TOL_STEP per level (and the ramp's
     ``numerics.tol_init`` capped at it). rest: the rest rule's ``time.rest_fraction`` is
     halved and its ``time.rest_duration`` doubled per level. margin: the adaptive mesh's
@@ -105,7 +108,7 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
         raise ConvergeError(f"--in = {mode!r}: expected one of {', '.join(MODES)}")
     factor = 2**level
     out: dict[str, Any] = {}
-    t, m, g = config.time, config.mesh, config.geometry
+    t, g, m = config.time, config.geometry, config.mesh
     if mode == "tolerance":
         num = config.numerics
         out["numerics.tol"] = float(f"{num.tol / TOL_STEP**level:.4g}")
@@ -132,14 +135,7 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
             out["time.dt_max"] = t.dt_max / factor
             out["time.dt_init"] = t.dt_init / factor
     if mode in ("space", "both"):
-        if g.kind == "column" and m.cells_across is not None:
-            out["mesh.cells_across"] = m.cells_across * factor
-        else:
-            out["mesh.size"] = m.size / factor
-            if g.kind == "periodic-layer" and m.cells_x is not None:
-                out["mesh.cells_x"] = m.cells_x * factor
-        if g.kind == "column" and g.erodible_thickness > 0:
-            out["mesh.layer_cells"] = m.layer_cells * factor
+        out |= rules_of(config).refine_space(config, factor)
     return out
 
 

@@ -21,6 +21,7 @@ from typing import Any, Literal, get_args, get_origin
 import pytest
 
 from granflow.config import SECTIONS, Config, ConfigError, load_config, parse_value
+from granflow.config.kinds import kind_names
 from granflow.io.run_dir import RunDir
 from granflow.runner import run_simulation
 
@@ -83,6 +84,8 @@ def other_value(config: Config, section: str, key: str) -> Any:
         return ALTERNATIVE[dotted]
     tp = SECTIONS[section].model_fields[key].annotation
     literals = [a for t in (tp, *get_args(tp)) if get_origin(t) is Literal for a in get_args(t)]
+    if dotted == "geometry.kind":       # the registered kinds
+        literals = kind_names()
     if literals:
         choice = next(c for c in literals if c != value)
         return f'"{choice}"'

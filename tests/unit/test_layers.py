@@ -120,3 +120,50 @@ def test_engine_free_packages_import_with_the_engine_blocked() -> None:
                           timeout=120)
     assert done.returncode == 0, done.stderr[-2000:]
     assert len(modules) > 20
+
+
+# ------------------------------------------------------------------ the page's other claims
+
+
+def page_paths(heading: str) -> set[str]:
+    """Every `path.py` (or `path.py: name`) named in the table under ``heading``."""
+    text = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    section = text.split(heading, 1)[1].split("\n## ", 1)[0]
+    return {m.split(":")[0] for m in re.findall(r"`([\w/]+\.py(?:: \w+)?)`", section)}
+
+
+def source_lines(pattern: str) -> list[str]:
+    """file:line of every line of granflow's source that matches ``pattern``."""
+    found = re.compile(pattern)
+    return [f"{p.relative_to(SOURCE)}:{i}" for p in sorted(SOURCE.rglob("*.py"))
+            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+            if found.search(line)]
+
+
+def test_every_home_the_page_names_exists() -> None:
+    homes = page_paths("## One home for each moving part")
+    assert len(homes) > 40
+    assert [h for h in homes if not (SOURCE / h).is_file()] == []
+
+
+def test_composite_laws_are_unwrapped_in_one_place() -> None:
+    """No isinstance on a law that blends two others outside physics/composite.py (the
+    hysteretic law's own module names itself)."""
+    found = source_lines(r"isinstance\([^)]*(TwoMaterials|Hysteretic)")
+    assert {f.split(":")[0] for f in found} <= {"physics/hysteresis.py"}
+
+
+def test_only_a_kind_names_a_kind() -> None:
+    """geometry.kind is compared with a kind's name nowhere: each kind's rules and builder
+    are found by the registries (config/kinds.py, scenarios/registry.py)."""
+    assert source_lines(r"kind ?[!=]= ?['\"](column|periodic-layer)") == []
+
+
+def test_a_kind_declares_itself_from_scenarios_without_the_engine() -> None:
+    """The modules of BUILT_IN that declare the kinds to the configuration import no
+    finite-element engine (the package imports them first, the engine-free ones too)."""
+    from granflow.scenarios import BUILT_IN
+
+    for rules, _ in BUILT_IN:
+        path = SOURCE / Path(*rules.split(".")[1:]).with_suffix(".py")
+        assert not any(name.split(".")[0] in ENGINES for name in imported(path)), path

@@ -19,9 +19,10 @@ attempts fail to converge and are retried smaller, at many times the cost
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
+
+from granflow.config.kinds import rules_of
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
@@ -43,7 +44,8 @@ def estimate(c: Config) -> tuple[float, float, float, str]:
 
 
 def stops_at_rest(c: Config) -> bool:
-    return c.geometry.kind == "column" and c.time.stop_at_rest
+    """Whether the run may end at rest long before time.t_end (its kind says)."""
+    return rules_of(c).stops_at_rest(c)
 
 
 def cost_problems(c: Config) -> Iterator[str]:
@@ -78,29 +80,5 @@ def cost_note(c: Config) -> str | None:
 
 
 def estimated_triangles(c: Config) -> tuple[float, float]:
-    """Triangles the mesher will make (bulk, erodible layer), from the areas and sizes (an
-    equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
-    g, m = c.geometry, c.mesh
-    if g.kind == "periodic-layer":
-        return 2 * (m.cells_x or g.length / m.size) * (g.height / m.size), 0.0
-    area = bulk_area(c)
-    layer = 0.0
-    if g.erodible_thickness > 0:
-        fine = g.erodible_thickness / m.layer_cells
-        layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
-                 / m.layer_aspect)
-    return area / 0.433 / m.size / m.size, layer
-
-
-def bulk_area(c: Config) -> float:
-    """Area of the column (m^2): the rectangle, less the front's triangle of a trapezoid."""
-    g = c.geometry
-    run = front_run(g.height, g.front_angle_deg) if g.shape == "trapezoid" else 0
-    return g.width * g.height - 0.5 * g.height * min(run, g.width)
-
-
-def front_run(height: float, angle_deg: float) -> float:
-    """Horizontal extent of a trapezoid's front (inf for an angle whose tangent is 0 in
-    floating point, such as 5e-324 degrees)."""
-    slope = math.tan(math.radians(angle_deg))
-    return height / slope if slope > 0 else math.inf
+    """Triangles the mesher will make (bulk, erodible layer): the kind's estimate."""
+    return rules_of(c).triangles(c)

@@ -31,7 +31,7 @@ import tomli_w
 from pydantic import ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
-from granflow.config.geometry_rules import anchor_paths, resolve_geometry
+from granflow.config.kinds import KIND_RULES, absolute_paths, anchor_paths, rules_of
 from granflow.config.messages import fmt_value, note, one_line
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
@@ -84,12 +84,7 @@ class Config(ConfigModel):
 
     def __repr__(self) -> str:
         g, t = self.geometry, self.time
-        if g.kind == "column":
-            shape = "cylinder" if g.axisymmetric else g.shape
-            bed = f" on a {g.erodible_thickness:g} m layer" if g.erodible_thickness else ""
-            what = f"{shape} column {g.width:g} x {g.height:g} m{bed}"
-        else:
-            what = f"periodic layer {g.length:g} x {g.height:g} m"
+        what = rules_of(self).describe(self)
         slope = f", slope {g.slope_deg:g} deg" if g.slope_deg else ""
         return (f"granflow.Config({self.scenario!r}: {what}{slope}, {self.material.rheology}, "
                 f"t_end = {t.t_end:g} s; every key: .to_toml())")
@@ -130,7 +125,10 @@ def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -
     """The one validation path of every interface: ``data`` (the layers and overrides
     merged) against ``base`` (what the keys would be without the user's settings)."""
     dropped = _drop_late_outputs(data, explicit_times)
-    resolve_geometry(data, base)
+    absolute_paths(data)
+    name = data["geometry"].get("kind")
+    if isinstance(name, str) and name in KIND_RULES:     # else the schema says what is wrong
+        KIND_RULES[name].prepare(data, base)
     config = _validate(data)
     changed = [f"{section}.{key}" for section in SECTIONS for key in data[section]
                if data[section][key] != base[section].get(key)]
@@ -140,12 +138,12 @@ def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -
             section, name_ = key.split(".")
             raise ConfigError(f"{key} = {fmt_value(data[section][name_])} has no effect here: "
                               f"{inert[key]}; remove it")
-    cells = config.mesh.cells_across
-    if cells is not None and config.geometry.kind == "column":
-        size = min(config.geometry.width, config.geometry.height) / cells
+    size = rules_of(config).derived_size(config)
+    if size is not None:
         if "mesh.size" in changed and not math.isclose(config.mesh.size, size):
             raise ConfigError(f"mesh.size = {config.mesh.size!r} and mesh.cells_across = "
-                              f"{cells} both set the mesh size; set one of them")
+                              f"{config.mesh.cells_across} both set the mesh size; set one "
+                              "of them")
         data["mesh"]["size"] = size      # the resolution follows the column
         config = _validate(data)
     if dropped:

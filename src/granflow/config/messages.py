@@ -15,7 +15,7 @@ import annotated_types as at
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from granflow.config.schema import ConfigNote
+from granflow.config.schema import ConfigNote, RegisteredKind
 
 _PACKAGE = str(Path(__file__).resolve().parents[1])   # granflow's own source files
 
@@ -57,6 +57,9 @@ def describe(tp: Any, metadata: Sequence[Any] = ()) -> str:
         return text + (" or none" if NoneType in args else "")
     if origin is Annotated:
         return describe(args[0], [*metadata, *tp.__metadata__])
+    kind = next((m for m in metadata if isinstance(m, RegisteredKind)), None)
+    if kind is not None:
+        return kind.allowed()
     if origin is Literal:
         names = [repr(a) for a in args]
         return names[0] if len(names) == 1 else "one of " + ", ".join(names)

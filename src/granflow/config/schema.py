@@ -10,7 +10,10 @@ import math
 from types import NoneType
 from typing import Annotated, Any, Literal, NamedTuple, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
+from pydantic_core import PydanticCustomError
+
+from granflow.config.kinds import KIND_RULES, kind_names
 
 
 class ConfigError(ValueError):
@@ -170,8 +173,23 @@ class Layer(_Section):
     fluidity_time: Literal["inertial"] | Annotated[float, Field(ge=1e-9, le=1e4)] | None
 
 
+class RegisteredKind:
+    """A field's mark: its value is the name of a registered problem kind
+    (``config/kinds.py``), checked when the configuration is validated."""
+
+    def __call__(self, value: str) -> str:
+        if value not in KIND_RULES:
+            raise PydanticCustomError("granflow_config", "{message}", {
+                "message": f"geometry.kind = {value!r}: must be {self.allowed()}"})
+        return value
+
+    @staticmethod
+    def allowed() -> str:
+        return "one of " + ", ".join(map(repr, kind_names()))
+
+
 class Geometry(_Section):
-    kind: Literal["periodic-layer", "column"]
+    kind: Annotated[str, RegisteredKind(), AfterValidator(RegisteredKind())]
     slope_deg: Angle  # bed inclination theta
     length: Length  # periodic layer: length l
     height: Length  # layer height h, or column height h0

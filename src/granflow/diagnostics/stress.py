@@ -15,22 +15,15 @@ import numpy as np
 
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
-from granflow.physics.hysteresis import Hysteretic
+from granflow.physics.composite import blended
 from granflow.physics.ops import Ops
-from granflow.physics.regions import TwoMaterials, blend
 
 
 def static_yield_stress(law: Any, pressure: Any, ops: Ops = NGSOLVE_OPS) -> Any:
     """kappa = sqrt(2) mu_s [p]_+ (2.4) with the law's static friction mu_s (mu(I)'s at
     I = 0); for a column over a layer of its own material, each material's; with a
     hysteretic friction, (1 - s) mu_start + s mu_s."""
-    if isinstance(law, TwoMaterials):
-        return blend(static_yield_stress(law.column, pressure, ops),
-                     static_yield_stress(law.layer, pressure, ops), law.fraction)
-    if isinstance(law, Hysteretic):
-        return blend(static_yield_stress(law.start, pressure, ops),
-                     static_yield_stress(law.flow, pressure, ops), law.mobilisation)
-    return math.sqrt(2.0) * law.mu_s * ops.positive_part(pressure)
+    return blended(law, lambda part: math.sqrt(2.0) * part.mu_s * ops.positive_part(pressure))
 
 
 def stress_components(solver: FlowSolver) -> dict[str, ngs.CoefficientFunction]:

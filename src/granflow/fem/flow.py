@@ -29,8 +29,7 @@ from granflow.fem.primal_dual import DualVariable
 from granflow.fem.spaces import taylor_hood, vector_p2
 from granflow.fem.time_scheme import TimeScheme, time_scheme
 from granflow.physics import DruckerPrager, Rheology, SideWallFriction
-from granflow.physics.hysteresis import Hysteretic
-from granflow.physics.regions import TwoMaterials
+from granflow.physics.composite import simple_laws
 from granflow.simulation.outcomes import IterationReport
 from granflow.simulation.state_spec import FLAG, Share, array, assign, may_lack, number
 
@@ -43,11 +42,7 @@ Density = float | ngs.CoefficientFunction   # kg/m^3: one material, or blended (
 def drucker_prager(law: Rheology) -> bool:
     """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer, or
     with a hysteretic friction: what the primal-dual correction is built for."""
-    if isinstance(law, TwoMaterials):
-        return drucker_prager(law.column) and drucker_prager(law.layer)
-    if isinstance(law, Hysteretic):
-        return drucker_prager(law.flow)
-    return isinstance(law, DruckerPrager)
+    return all(isinstance(part, DruckerPrager) for part in simple_laws(law))
 
 
 class FlowSolver:

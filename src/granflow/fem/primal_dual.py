@@ -37,8 +37,7 @@ from ngsolve.comp import IntegrationRuleSpace
 
 from granflow.fem.forms import strain_rate
 from granflow.physics import DruckerPrager, Rheology
-from granflow.physics.hysteresis import Hysteretic
-from granflow.physics.regions import TwoMaterials, blend
+from granflow.physics.composite import blended, cell_share
 
 COMPONENTS = ((0, 0), (0, 1), (1, 1))   # a symmetric 2x2 tensor stored as xx, xy, yy
 WEIGHTS = np.array([1.0, 2.0, 1.0])      # Frobenius A : B of two tensors so stored
@@ -72,7 +71,7 @@ class DualVariable:
     side gamma : Dv.
     """
 
-    def __init__(self, mesh: ngs.Mesh, rheology: DruckerPrager | TwoMaterials | Hysteretic,
+    def __init__(self, mesh: ngs.Mesh, rheology: Rheology,
                  iterate: ngs.GridFunction) -> None:
         self.space = IntegrationRuleSpace(mesh, order=1)   # the 3 edge midpoints
         self.dx = ngs.dx(intrules=self.space.GetIntegrationRules())
@@ -173,11 +172,9 @@ class DualVariable:
 
 def _yield_slope(law: Rheology) -> float | np.ndarray:
     """sqrt(2) mu of a Drucker-Prager law, or per triangle of a blended one."""
-    if isinstance(law, TwoMaterials):
-        return blend(_yield_slope(law.column), _yield_slope(law.layer),
-                     law.per_triangle.vec.FV().NumPy())
-    if isinstance(law, Hysteretic):
-        return blend(law.start.yield_stress(1.0), _yield_slope(law.flow),
-                     law.per_triangle.vec.FV().NumPy())
+    return blended(law, _drucker_prager_slope, cell_share)  # type: ignore[no-any-return]
+
+
+def _drucker_prager_slope(law: Rheology) -> float:
     assert isinstance(law, DruckerPrager)
     return law.yield_stress(1.0)        # type: ignore[no-any-return]

@@ -32,15 +32,17 @@ yield stress (one regularised rate instead of two in the assembled coefficient).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
+from granflow.physics.composite import composites
+from granflow.physics.laws import Law, LawFields, register_friction
 from granflow.physics.mu_i import MuI
 from granflow.physics.ops import NUMPY_OPS, Ops
-from granflow.physics.regions import TwoMaterials, blend
+from granflow.physics.regions import blend
 from granflow.physics.rheology import DruckerPrager
 
 
@@ -109,6 +111,15 @@ class Hysteretic:
             raise ValueError("the start and flow laws must share the viscosity and eps")
 
     @property
+    def parts(self) -> tuple[DruckerPrager, DruckerPrager | MuI]:
+        """At s = 0 the start law, at s = 1 the flow law (``physics/composite.py``)."""
+        return self.start, self.flow
+
+    @property
+    def share(self) -> Any:
+        return self.mobilisation
+
+    @property
     def viscosity(self) -> float:
         return self.flow.viscosity
 
@@ -152,5 +163,32 @@ class Hysteretic:
 def mobilisation_cells(law: Any) -> Any:
     """The per-triangle mobilisation a law reads (the engine's object), or None when no
     material of ``law`` (one law, or a column over a layer) has a hysteretic friction."""
-    parts = (law.column, law.layer) if isinstance(law, TwoMaterials) else (law,)
-    return next((p.per_triangle for p in parts if isinstance(p, Hysteretic)), None)
+    return next((c.per_triangle for c in composites(law) if isinstance(c, Hysteretic)), None)
+
+
+def relaxation(material: Any) -> Relaxation:
+    """The relaxation of a material's mobilisation (its hysteretic-friction keys)."""
+    return Relaxation(mobilisation_time=material.mobilisation_time,
+                      rest_time=material.rest_time, shear_rate=material.mobilisation_shear_rate)
+
+
+def _hysteretic(m: Any, eps: float, fields: LawFields, flow: Any) -> Hysteretic:
+    """The material's law as mu_flow beside Drucker-Prager at mu_start, blended with s."""
+    start = DruckerPrager(viscosity=m.viscosity, friction_angle_deg=m.start_friction_angle_deg,
+                          eps=eps)
+    return Hysteretic(flow=flow, start=start, relaxation=relaxation(m),
+                      mobilisation=fields.mobilisation, per_triangle=fields.per_triangle,
+                      initial=m.initial_mobilisation)
+
+
+def _checks(material: Any, section: str) -> Iterator[str]:
+    """The friction at rest at least the flowing one."""
+    if material.start_friction_angle_deg < material.friction_angle_deg:
+        yield (f"{section}.start_friction_angle_deg = {material.start_friction_angle_deg!r} "
+               f"must be at least the friction angle {material.friction_angle_deg!r} (the "
+               "friction at rest is the larger)")
+
+
+HYSTERETIC = register_friction(Law(
+    "hysteretic", ("start_friction_angle_deg", "mobilisation_time", "rest_time",
+                   "mobilisation_shear_rate", "initial_mobilisation"), _hysteretic, _checks))

@@ -33,9 +33,11 @@ implemented.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from granflow.physics.laws import Law, named, packing_checks, register_rheology
 from granflow.physics.ops import NUMPY_OPS, Ops
 
 
@@ -110,3 +112,21 @@ class MuI:
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:
         return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
+
+
+def _mu_i_checks(material: Any, section: str) -> Iterator[str]:
+    """mu_2 above mu_s, and grains at least as dense as the bulk."""
+    delta = material.friction_angle_deg
+    if material.mu_2_deg <= delta:
+        yield (f"{section}.mu_2_deg = {material.mu_2_deg!r} must be greater than "
+               f"{named(section, 'friction_angle_deg', 'friction angle', delta)} (mu(I) rises "
+               "from mu_s to mu_2)")
+    yield from packing_checks(material, section)
+
+
+register_rheology(Law(
+    "mu-i", ("mu_2_deg", "i0", "grain_diameter", "grain_density"),
+    lambda m, eps, fields: MuI(viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg,
+                               mu_2_deg=m.mu_2_deg, i0=m.i0, grain_diameter=m.grain_diameter,
+                               grain_density=m.grain_density, eps=eps),
+    _mu_i_checks))

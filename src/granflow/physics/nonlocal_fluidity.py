@@ -44,9 +44,11 @@ as in mu(I), ``physics/mu_i.py``), a number takes a constant t0 (s).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from granflow.physics.laws import Law, LawFields, packing_checks, register_rheology
 from granflow.physics.ops import NUMPY_OPS, Ops
 
 INERTIAL = "inertial"
@@ -158,3 +160,28 @@ class NonlocalFluidity:
         if excess <= 0:
             return math.inf
         return 0.5 * math.pi * self.amplitude * self.grain_diameter / math.sqrt(excess)
+
+
+def _nonlocal_checks(material: Any, section: str) -> Iterator[str]:
+    """A positive static friction (the rest state's fluidity is sqrt(2) eps / mu_s), no
+    hysteretic friction beside the fluidity, grains at least as dense as the bulk."""
+    if material.friction_angle_deg <= 0:
+        yield (f"{section}.friction_angle_deg = {material.friction_angle_deg!r} must be > 0 "
+               "with rheology = 'nonlocal' (mu_s > 0 sets the fluidity of material at rest)")
+    if material.friction == "hysteretic":
+        yield (f"{section}.friction = 'hysteretic' cannot be combined with rheology = "
+               "'nonlocal': the fluidity already makes layers thinner than h_stop stop; "
+               "use friction = 'constant'")
+    yield from packing_checks(material, section)
+
+
+def _build(m: Any, eps: float, fields: LawFields) -> NonlocalFluidity:
+    return NonlocalFluidity(viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg,
+                            b=m.nonlocal_b, amplitude=m.nonlocal_amplitude,
+                            grain_diameter=m.grain_diameter, grain_density=m.grain_density,
+                            eps=eps, time=m.fluidity_time, fluidity=fields.fluidity,
+                            friction_cap_deg=m.mu_2_deg)
+
+
+NONLOCAL = register_rheology(Law("nonlocal", ("nonlocal_amplitude", "nonlocal_b",
+                                              "fluidity_time"), _build, _nonlocal_checks))

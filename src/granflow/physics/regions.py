@@ -36,6 +36,15 @@ class TwoMaterials:
     per_triangle: Any = None
 
     @property
+    def parts(self) -> tuple[Rheology, Rheology]:
+        """At a fraction 0 the column's law, at 1 the layer's (``physics/composite.py``)."""
+        return self.column, self.layer
+
+    @property
+    def share(self) -> Any:
+        return self.fraction
+
+    @property
     def viscosity(self) -> Any:
         return blend(self.column.viscosity, self.layer.viscosity, self.fraction)
 

@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from granflow.physics.laws import Law, register_rheology
 from granflow.physics.ops import NUMPY_OPS, Ops
 
 
@@ -81,3 +82,7 @@ class DruckerPrager:
         norm = np.sqrt(np.sum(np.asarray(strain_rate) ** 2, axis=(-2, -1)))
         m = self.effective_viscosity(norm, pressure, ops)
         return np.asarray(m)[..., None, None] * strain_rate
+
+
+register_rheology(Law("drucker-prager", (), lambda m, eps, fields: DruckerPrager(
+    viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg, eps=eps)))

@@ -5,10 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from granflow.config import Config
+from granflow.config.kinds import erodible_layer
 from granflow.config.schema import Material
-from granflow.physics import DruckerPrager, MuI, Rheology, SideWallFriction
-from granflow.physics.hysteresis import Hysteretic, Relaxation
-from granflow.physics.nonlocal_fluidity import NonlocalFluidity
+from granflow.physics import Rheology, SideWallFriction
+from granflow.physics.hysteresis import HYSTERETIC
+from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields
+from granflow.physics.nonlocal_fluidity import NONLOCAL, NonlocalFluidity
 
 
 def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
@@ -20,72 +22,50 @@ def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
 def hysteretic(config: Config) -> bool:
     """Whether a material of the run has a hysteretic friction (and so a mobilisation
     state, ``physics/hysteresis.py``)."""
-    layer = layer_material(config)
-    return config.material.friction == "hysteretic" or (
-        layer is not None and layer.friction == "hysteretic")
-
-
-def relaxation(mat: Material) -> Relaxation:
-    """The relaxation of a material's mobilisation (its hysteretic-friction keys)."""
-    return Relaxation(mobilisation_time=mat.mobilisation_time, rest_time=mat.rest_time,
-                      shear_rate=mat.mobilisation_shear_rate)
+    return any(mat.friction == HYSTERETIC.name for mat in run_materials(config))
 
 
 def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
                  per_triangle: Any = None, fluidity: Any = 0.0) -> Rheology:
-    """The law of one material with its friction: ``material_law``, or with a hysteretic
-    friction that law as mu_flow beside Drucker-Prager at mu_start, blended with the
-    mobilisation s (``mobilisation``: its field; ``per_triangle``: its cell values). A
-    nonlocal law reads the fluidity field ``fluidity`` (it has no hysteretic friction:
-    config/rules.py)."""
-    flow = material_law(mat, eps, fluidity)
-    if mat.friction != "hysteretic":
-        return flow
-    start = DruckerPrager(viscosity=mat.viscosity,
-                          friction_angle_deg=mat.start_friction_angle_deg, eps=eps)
-    return Hysteretic(flow=flow, start=start, relaxation=relaxation(mat),
-                      mobilisation=mobilisation, per_triangle=per_triangle,
-                      initial=mat.initial_mobilisation)
+    """The law of one material with its friction (``physics/laws.py``): ``material_law``
+    wrapped by its friction, which reads the mobilisation s (``mobilisation``: its field;
+    ``per_triangle``: its cell values)."""
+    fields = LawFields(fluidity=fluidity, mobilisation=mobilisation, per_triangle=per_triangle)
+    return FRICTIONS[mat.friction].build(mat, eps, fields, material_law(mat, eps, fluidity))
 
 
 def material_law(mat: Material, eps: float, fluidity: Any = 0.0) -> Rheology:
-    """The law of one material: (2.13), mu(I) or the nonlocal fluidity law, with its
-    parameters."""
-    if mat.rheology == "nonlocal":
+    """The law of one material, as its rheology registered it (``physics/laws.py``); the
+    nonlocal law through ``nonlocal_law``, the name a script replaces to change it."""
+    if mat.rheology == NONLOCAL.name:
         return nonlocal_law(mat, eps, fluidity)
-    if mat.rheology == "mu-i":
-        return MuI(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                   mu_2_deg=mat.mu_2_deg, i0=mat.i0, grain_diameter=mat.grain_diameter,
-                   grain_density=mat.grain_density, eps=eps)
-    return DruckerPrager(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                         eps=eps)
+    return RHEOLOGIES[mat.rheology].build(mat, eps, LawFields(fluidity=fluidity))  # type: ignore[no-any-return]
 
 
 def nonlocal_law(mat: Material, eps: float, fluidity: Any = 0.0) -> NonlocalFluidity:
     """The nonlocal fluidity law of a material (``physics/nonlocal_fluidity.py``)."""
-    return NonlocalFluidity(viscosity=mat.viscosity, friction_angle_deg=mat.friction_angle_deg,
-                            b=mat.nonlocal_b, amplitude=mat.nonlocal_amplitude,
-                            grain_diameter=mat.grain_diameter,
-                            grain_density=mat.grain_density, eps=eps,
-                            time=mat.fluidity_time, fluidity=fluidity,
-                            friction_cap_deg=mat.mu_2_deg)
+    return NONLOCAL.build(mat, eps, LawFields(fluidity=fluidity))  # type: ignore[no-any-return]
+
+
+def run_materials(config: Config) -> tuple[Material, ...]:
+    """[material], and [layer]'s when the layer is a material of its own."""
+    layer = layer_material(config)
+    return (config.material,) if layer is None else (config.material, layer)
 
 
 def nonlocal_materials(config: Config) -> tuple[Material, ...]:
     """The run's materials when they follow the nonlocal law ([material], and [layer]'s
     when it is a material of its own), else (): the rules allow both or neither."""
-    if config.material.rheology != "nonlocal":
+    if config.material.rheology != NONLOCAL.name:
         return ()
-    layer = layer_material(config)
-    return (config.material,) if layer is None else (config.material, layer)
+    return run_materials(config)
 
 
 def layer_material(config: Config) -> Material | None:
     """The erodible layer's material: [material] with the keys [layer] sets over it, or
     None when the layer is the column's material (one material: the law and density of
     [material] everywhere, exactly as without the [layer] section)."""
-    geo = config.geometry
-    if geo.kind != "column" or geo.erodible_thickness <= 0:
+    if not erodible_layer(config):
         return None
     own = {k: v for k, v in config.layer.model_dump().items() if v is not None}
     layer = config.material.model_copy(update=own)
@@ -95,7 +75,7 @@ def layer_material(config: Config) -> Material | None:
 def build_side_walls(config: Config) -> SideWallFriction | None:
     """The channel's side walls (``boundary.channel_width``), or None without them."""
     bnd = config.boundary
-    if bnd.channel_width is None or config.geometry.kind != "column":
+    if bnd.channel_width is None:      # (a periodic layer has none: the key is inert there)
         return None
     return SideWallFriction(bnd.channel_width, bnd.side_wall_friction_deg,
                             config.numerics.eps_friction)

@@ -29,8 +29,8 @@ from granflow.config import Config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
-from granflow.physics.hysteresis import Relaxation, pick, relaxed
-from granflow.scenarios.materials import layer_material, relaxation
+from granflow.physics.hysteresis import Relaxation, pick, relaxation, relaxed
+from granflow.scenarios.materials import layer_material
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack

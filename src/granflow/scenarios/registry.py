@@ -7,9 +7,10 @@ callbacks (``simulation/outputs.py``) declare every output. A figure is drawn fr
 directory's files alone (``granflow plot`` builds no problem) and draws nothing when the
 files it reads are not there (a layer's figure in a run without a layer).
 
-A new kind: its modules (the builder, the parts that measure it) under ``scenarios/``, its
-``register`` call there, its module in ``BUILT_IN`` and its name among the values of
-``geometry.kind``; its configuration keys go to ``config/`` as any parameter's.
+A new kind: its modules under ``scenarios/`` (the builder and the parts that measure it,
+with its ``register`` call; its ``KindRules`` for the configuration, ``config/kinds.py``)
+and its line of ``BUILT_IN`` (``scenarios/__init__.py``); new configuration keys go to
+``config/`` as any parameter's.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from granflow.config import Config
 from granflow.io.replot import figure_config, figure_files
 from granflow.io.run_dir import RunDir, RunDirError
+from granflow.scenarios import BUILT_IN
 from granflow.simulation.outputs import Figure
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.state_spec import Share
@@ -67,13 +69,10 @@ def register(name: str, build: Builder, figures: Sequence[Figure] = ()) -> Probl
     return kind
 
 
-BUILT_IN = ("granflow.scenarios.column", "granflow.scenarios.plug_flow")
-
-
 def _load_built_in() -> None:
-    """Import the built-in kinds' modules: each registers its own."""
-    for module in BUILT_IN:
-        importlib.import_module(module)
+    """Import the built-in kinds' builders: each registers its own."""
+    for _, builder in BUILT_IN:
+        importlib.import_module(builder)
 
 
 def problem_kind(name: str) -> ProblemKind:

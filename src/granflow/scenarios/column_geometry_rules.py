@@ -1,43 +1,18 @@
 """The configuration's rules for a column's geometry: the bed profile, the mass polygon, the
-left wall, the gate (``geometry/scene.py`` reads and checks them); file paths anchored to
-the TOML file that names them; the sizes a user's mass sets; the keys without effect."""
+left wall, the gate (``geometry/scene.py`` reads and checks them); the sizes a user's mass
+sets; the keys without effect."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from granflow.config.schema import ConfigError, Gate, Geometry
 from granflow.geometry.scene import Scene, build_scene
 from granflow.geometry.sources import GeometryError
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
-
-FILE_KEYS = ("bed_profile_file", "mass_file")
-
-
-def anchor_paths(data: dict[str, Any], folder: Path) -> None:
-    """Relative file paths of the geometry read from the folder of the TOML file that names
-    them (in place, on the raw table of one file)."""
-    geometry = data.get("geometry")
-    if not isinstance(geometry, dict):
-        return
-    for key in FILE_KEYS:
-        value = geometry.get(key)
-        if isinstance(value, str) and value.lower() != "none" and value:
-            path = Path(value).expanduser()
-            geometry[key] = str(path if path.is_absolute() else folder / path)
-
-
-def absolute_paths(data: dict[str, Any]) -> None:
-    """File paths made absolute (relative ones: from the working folder), so that the
-    resolved configuration reads the same files from anywhere."""
-    geometry = data.get("geometry", {})
-    for key in FILE_KEYS:
-        value = geometry.get(key)
-        if isinstance(value, str) and value.lower() != "none" and value:
-            geometry[key] = str(Path(value).expanduser().resolve())
 
 
 def scene(c: Config) -> Scene:
@@ -48,8 +23,6 @@ def scene(c: Config) -> Scene:
 def geometry_problems(c: Config) -> Iterator[str]:
     """What a column's geometry cannot be: one line each, naming the key."""
     g = c.geometry
-    if g.kind != "column":
-        return
     profile = g.bed_profile is not None or g.bed_profile_file is not None
     if profile and g.slope_deg != 0:
         yield (f"geometry.slope_deg = {g.slope_deg!r} with a bed profile: the profile gives "
@@ -85,11 +58,6 @@ def geometry_inert_keys(c: Config) -> dict[str, str]:
         out.update(dict.fromkeys(keys.split(), reason))
 
     gate_keys = "gate.speed_law gate.speed gate.tau gate.friction_deg"
-    if g.kind == "periodic-layer":
-        add("geometry.bed_profile geometry.bed_profile_file geometry.mass geometry.mass_file "
-            "geometry.left_wall gate.enabled " + gate_keys,
-            "it describes a column, and geometry.kind = 'periodic-layer'")
-        return out
     if g.mass is not None or g.mass_file is not None:
         add("geometry.shape geometry.front_angle_deg",
             "geometry.mass gives the mass (not a built-in shape)")
@@ -103,12 +71,9 @@ def geometry_inert_keys(c: Config) -> dict[str, str]:
 
 
 def resolve_geometry(data: dict[str, Any], base: dict[str, Any]) -> None:
-    """Before validation (in place): file paths made absolute, and a user's mass setting
-    geometry.width and geometry.height (in ``base`` too: they are not the user's to set);
-    a width or height the user set as well is refused."""
-    from granflow.config.schema import ConfigError, Gate, Geometry
-
-    absolute_paths(data)
+    """Before validation (in place): a user's mass sets geometry.width and geometry.height
+    (in ``base`` too: they are not the user's to set); a width or height the user set as
+    well is refused."""
     geometry = data.get("geometry", {})
     if not isinstance(geometry, dict) or geometry.get("kind") != "column" or all(
             _unset(geometry.get(k)) for k in ("mass", "mass_file")):
