@@ -223,8 +223,8 @@ def markdown(results: dict) -> list[str]:
                   f"status {r['status']} at t = {r['t_final']:.2f} s, front arrested at "
                   f"{r['front_stop_time_s']:.2f} s, runout {r['runout_m']:.3f} m; h_stop: model "
                   f"{r['h_stop_model_mm']:.2f} mm, beads' fit {r['h_stop_beads_mm']:.2f} mm; "
-                  f"kinetic energy {r['kinetic_energy_3s_J']:.3g} J at 3 s, "
-                  f"{r[f'kinetic_energy_{REST_END:g}s_J']:.3g} J at {REST_END:g} s (largest "
+                  f"kinetic energy {r['kinetic_energy_3s_J']:.3g} J/m at 3 s, "
+                  f"{r[f'kinetic_energy_{REST_END:g}s_J']:.3g} J/m at {REST_END:g} s (largest "
                   f"speed {r[f'max_speed_{REST_END:g}s_m_s']:.3g} m/s, flowing fraction "
                   f"{r[f'flowing_fraction_{REST_END:g}s']:.3f})", ""]
     thickness = {"rest-22 (zero-flux)": results.get("rest", {})} | {
