@@ -56,7 +56,7 @@ ALTERNATIVE = {
 }
 CONTEXT = {   # both runs: failing solves, so that the failure remesh has something to do;
     "mesh.failure_remesh_quality": ["numerics.max_iterations=4"],
-    "mesh.remesh_quality": ["time.t_end=0.1"],   # long enough for the mesh to degrade
+    "mesh.remesh_quality": ["time.t_end=0.15"],   # long enough for the mesh to degrade
     "mesh.layer_ahead": ["geometry.bed_length=0.5"],   # longer than the column + 0.1 m
     # the adaptive mesh's sizes at rest act from the first remesh, over a layer long enough
     # to rest beyond the flow's reach
