@@ -105,3 +105,9 @@ class Coordinates(Section):
 
 PLANE = Coordinates(axisymmetric=False)
 AXISYMMETRIC = Coordinates(axisymmetric=True)
+
+
+def coordinates_of(geometry: Any) -> Coordinates:
+    """The coordinates of a run's ``[geometry]``: r-z for a cylinder
+    (``geometry.axisymmetric``), else plane strain. The one place a problem reads that key."""
+    return AXISYMMETRIC if geometry.axisymmetric else PLANE
