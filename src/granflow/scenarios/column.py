@@ -22,8 +22,7 @@ from granflow.diagnostics.inertial import InertialNumbers
 from granflow.fem.flow import FlowSolver
 from granflow.geometry.domains import Polygon
 from granflow.geometry.mesh import polygon_mesh
-from granflow.physics import MuI, gravity_vector
-from granflow.physics.well_posedness import well_posed_window
+from granflow.physics import gravity_vector
 from granflow.scenarios.column_discretisation import ColumnDiscretisation, discretise
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures
@@ -107,15 +106,6 @@ class ColumnCollapse:
         self.simulation.callbacks.restore_state(state)
 
 
-def _inertial_numbers(law: object) -> InertialNumbers | None:
-    """mu(I) runs record their inertial numbers and the law's well-posed window (with a
-    hysteretic friction, those of its flow law)."""
-    law = getattr(law, "flow", law)
-    if not isinstance(law, MuI):
-        return None
-    return InertialNumbers(well_posed=well_posed_window(law))
-
-
 def build_column(config: Config) -> ColumnCollapse:
     """Netgen mesh of the column, friction walls, ALE mover, rest state with hydrostatic p."""
     setup = ColumnSetup.of(config)
@@ -133,7 +123,7 @@ def build_column(config: Config) -> ColumnCollapse:
                             velocity_floor=config.numerics.velocity_floor)
     remesher = ColumnRemesher(setup, current, simulation, layer=layer, size_field=field)
     measures = ColumnMeasures(setup, current, remesher, simulation,
-                              inertial=_inertial_numbers(current.solver.rheology))
+                              inertial=InertialNumbers.of(current.solver.rheology))
     simulation.remesher = remesher
     mobilisation = None
     if current.mobilisation is not None:

@@ -14,24 +14,17 @@ from granflow.ale.deposition import Support
 from granflow.ale.free_surface import polygon_measure
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.surface_tension import SurfaceTension
-from granflow.fem.flow import Density, FlowSolver
-from granflow.fem.fluidity import FluidityField
+from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
-from granflow.physics import CoulombFriction, Rheology, gravity_vector
-from granflow.physics.regions import TwoMaterials, blend
+from granflow.physics import CoulombFriction, gravity_vector
 from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.fluidity import fluidity_field
-from granflow.scenarios.materials import (
-    RunMaterials,
-    augmentation,
-    build_side_walls,
-    friction_law,
-)
+from granflow.scenarios.materials import augmentation, build_side_walls
 
 
 @dataclass
@@ -95,16 +88,17 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
     share = fraction
     fluidity = fluidity_field(config, materials, mesh, coords=coords, fraction=share,
                               rough=BED if bnd.bed_fluidity == "zero" else "")
-    rheology, density = _materials(materials, num.eps, mobilisation, fluidity, fraction,
-                                   share)
+    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
+    side_walls, augmented = build_side_walls(config), augmentation(config)
+    rheology, density = materials.law(num.eps, *state, share=share, fluidity=(
+        fluidity.current if fluidity is not None else 0.0))
     solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
                         linear_solver=direct_solver(num.linear_solver),
                         initial_guess=num.initial_guess,
                         surface_tension_on=SURFACE if st.enabled else None,
-                        side_walls=build_side_walls(config),
-                        augmentation=augmentation(config),
+                        side_walls=side_walls, augmentation=augmented,
                         scheme=config.time.scheme, coordinates=coords,
                         axis=WALL if coords.axisymmetric else "",
                         anderson_depth=num.anderson_depth, fluidity=fluidity,
@@ -127,23 +121,3 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
     out = ColumnDiscretisation(mesh, solver, mover, fraction, mobilisation)
     out.set_fraction(layer)
     return out
-
-
-def _materials(materials: RunMaterials, eps: float, mobilisation: MobilisationField | None,
-               fluidity: FluidityField | None, fraction: ngs.GridFunction | None,
-               share: ngs.CoefficientFunction | None) -> tuple[Rheology, Density]:
-    """One material: [material]'s law and density. A layer of its own: both blended with
-    the indicator ``share``, a piecewise constant share of layer material per triangle, read
-    on the walls from the adjacent triangle (``fem/engine.py: read_on_walls``: a plain L2
-    function is 0 on a boundary element, which would give the Coulomb walls' load under the
-    layer the column's law). A
-    hysteretic friction reads the mobilisation field (``fem/mobilisation_field.py``), a
-    nonlocal law the fluidity (``fem/fluidity.py``)."""
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    g = fluidity.current if fluidity is not None else 0.0
-    column, layer = materials.column, materials.layer
-    if layer is None or fraction is None or share is None:
-        return friction_law(column, eps, *state, fluidity=g), column.density
-    law = TwoMaterials(friction_law(column, eps, *state, fluidity=g),
-                       friction_law(layer, eps, *state, fluidity=g), share, fraction)
-    return law, blend(column.density, layer.density, share)

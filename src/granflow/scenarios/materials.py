@@ -12,6 +12,7 @@ from granflow.physics import Rheology, SideWallFriction
 from granflow.physics.hysteresis import HYSTERETIC
 from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields
 from granflow.physics.nonlocal_fluidity import NONLOCAL, NonlocalFluidity
+from granflow.physics.regions import TwoMaterials, blend
 
 
 def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
@@ -71,6 +72,22 @@ class RunMaterials:
         """The run's materials when they follow the nonlocal law, else (): the rules allow
         both or neither."""
         return self.all if self.column.rheology == NONLOCAL.name else ()
+
+    def law(self, eps: float, mobilisation: Any = 0.0, per_triangle: Any = None,
+            fluidity: Any = 0.0, share: Any = None) -> tuple[Rheology, Any]:
+        """The run's law and density. One material: [material]'s. A layer of its own: both
+        blended with ``share``, the piecewise constant share of layer material per triangle
+        (``physics/regions.py``), which the walls read from the adjacent triangle
+        (``fem/engine.py: read_on_walls``: a plain L2 function is 0 on a boundary element,
+        which would give the Coulomb walls' load under the layer the column's law). A
+        hysteretic friction reads the mobilisation (``mobilisation``, ``per_triangle``), a
+        nonlocal law the fluidity (``friction_law``)."""
+        column = friction_law(self.column, eps, mobilisation, per_triangle, fluidity=fluidity)
+        if self.layer is None or share is None:
+            return column, self.column.density
+        layer = friction_law(self.layer, eps, mobilisation, per_triangle, fluidity=fluidity)
+        return (TwoMaterials(column, layer, share, share),
+                blend(self.column.density, self.layer.density, share))
 
 
 def run_materials(config: Config) -> RunMaterials:
