@@ -41,7 +41,7 @@ import granflow
 from granflow.config import load_config
 from granflow.fem.sampling import cell_means
 from granflow.scenarios.column import build_column
-from granflow.simulation.callbacks import AtTimes
+from granflow.simulation.callbacks import AtTimes, add_callback
 
 T_END = 0.3
 BASE = ["mesh.size=0.02", f"time.t_end={T_END}", "time.stop_at_rest=false",
@@ -114,7 +114,7 @@ def threshold() -> dict:
         report("", rows[-1])
 
     sim = problem.simulation
-    sim.observers = [*sim.observers, AtTimes(RATE_TIMES, look)]
+    add_callback(sim, AtTimes(RATE_TIMES, look), "rates")
     sim.run()
     return {"rows": rows,
             "slow_q99_max": max(r["slow_q99"] for r in rows),

@@ -28,6 +28,7 @@ from common.results import write_json
 from granflow.config import load_config
 from granflow.fem import nonlinear
 from granflow.runner import build_problem
+from granflow.simulation.callbacks import add_callback
 
 
 class Probe:
@@ -130,7 +131,7 @@ def main() -> None:
     probe.dump = lambda: write(args.out, {"partial": True, "steps_record": steps,
                                           "iterations_record": probe.iterations})
 
-    sim.observers = [*sim.observers, observe]
+    add_callback(sim, observe, "anatomy")
     start = time.perf_counter()
     result = sim.run()
     wall = time.perf_counter() - start

@@ -41,6 +41,7 @@ from granflow.reference.incline import bagnold
 from granflow.reference.nonlocal_incline import steady_nonlocal_flow
 from granflow.scenarios.materials import nonlocal_law
 from granflow.scenarios.plug_flow import build_plug_flow
+from granflow.simulation.callbacks import add_callback
 
 NONLOCAL = ["material.rheology=nonlocal", "time.output_times=[]", "material.viscosity=1e-4"]
 SLOPES = [22.0, 23.0, 24.0, 25.5, 27.0, 28.0, 30.0]
@@ -72,7 +73,7 @@ def growth_rate(slope: float, factor: float, cells: int = 16) -> float:
         times.append(sim.t)
         norms.append(math.sqrt(ngs.Integrate(field.previous**2, problem.mesh)))
 
-    problem.simulation.observers = [record]
+    add_callback(problem.simulation, record, "record")
     problem.simulation.run()
     t, n = np.array(times), np.array(norms)
     late = t > 0.5

@@ -26,6 +26,7 @@ from pathlib import Path
 from common.results import report, write_json, write_markdown
 
 from granflow.io.plots import save_figure
+from granflow.simulation.callbacks import add_callback
 
 REFERENCE = (329, 0.021)  # triangles of the trapezoid at mesh.size 0.021 m
 
@@ -53,7 +54,7 @@ def measure(triangles: int, steps: int, solver: str) -> dict:
         per_step.append(now - last[0])
         last[0] = now
 
-    sim.observers = [clock]
+    add_callback(sim, clock, "clock")
     last[0] = time.perf_counter()
     sim.run()
     system = problem.solver.nonlinear.picard_system

@@ -226,7 +226,9 @@ class RunPlots:
                 label = f"t = {t:.3g} s" + (f" ({summary.status})" if last and not
                                             summary.ok else "")
             ax.plot(rows["x"], rows["z"], label=label, **({"color": "k"} if last else {}))
-        ax.set_xlabel("r (m)" if self._run.config.geometry.axisymmetric else "x (m)")
+        from granflow.fem.measure import coordinates_of
+
+        ax.set_xlabel(f"{coordinates_of(self._run.config.geometry).coordinate} (m)")
         ax.set_ylabel("z (m)")
         ax.set_aspect("equal")
         ax.set_title(f"{summary.scenario}: free surface")

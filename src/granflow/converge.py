@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
-from granflow.config.kinds import rules_of
+from granflow.config.kinds import erodible_layer, rules_of
 from granflow.convergence_report import (
     DEFAULT_TOLERANCES,
     OPTIONAL_TOLERANCES,
@@ -108,7 +108,7 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
         raise ConvergeError(f"--in = {mode!r}: expected one of {', '.join(MODES)}")
     factor = 2**level
     out: dict[str, Any] = {}
-    t, g, m = config.time, config.geometry, config.mesh
+    t, m = config.time, config.mesh
     if mode == "tolerance":
         num = config.numerics
         out["numerics.tol"] = float(f"{num.tol / TOL_STEP**level:.4g}")
@@ -122,7 +122,7 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
             raise ConvergeError("--in margin: the case has mesh.adaptive = false; its margin "
                                 "changes nothing (set mesh.adaptive=true)")
         out["mesh.flow_margin"] = min(m.flow_margin * factor, 100.0)
-        if g.erodible_thickness > 0:
+        if erodible_layer(config):
             out["mesh.layer_rest_coarsening"] = max(m.layer_rest_coarsening / factor, 1.0)
     if mode in ("time", "both"):
         if t.dt is not None:

@@ -46,6 +46,7 @@ from granflow.simulation.callbacks import (
     TimeInterval,
     add_callback,
 )
+from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.state_spec import (
     TIME,
@@ -140,6 +141,68 @@ def _failed(config: Config, run_dir: RunDir, exc: Exception, when: str) -> dict[
     return summary
 
 
+class RunRecord(Outputs):
+    """The run's own part of summary.json, declared as the loop's callback ``run`` like
+    every other part's members: its counts and events (after each accepted step it notes
+    the remeshes and the depositions, which the figures mark: each changes the kinetic
+    energy at once), the output times after the stop, the last state's profiles, the
+    volume's conservation and the mesh's size. Its state is in the outputs' share of the
+    checkpoint (``OUTPUTS_SHARE``)."""
+
+    def __init__(self, problem: Problem, saved: dict[str, Any] | None, resumed: bool,
+                 at_times: AtTimes) -> None:
+        self.problem, self.resumed, self.at_times = problem, resumed, at_times
+        solver = problem.solver
+        self.volume0 = (saved or {}).get("volume0") or state_measures(
+            problem.mesh, solver.velocity, solver.density, coords=solver.coordinates)["volume"]
+        self.events = {name: [float(t) for t in (saved or {}).get(f"{name}_times", [])
+                              if isinstance(t, int | float)] for name in EVENTS}
+        self.seen = _event_counts(problem)
+        self.final: float | None = None      # the time of profiles/*_final.csv, once written
+
+    def __call__(self, sim: Simulation) -> None:
+        counts = _event_counts(self.problem)
+        for name, count in counts.items():
+            if count > self.seen[name]:
+                # a remesh comes before the step's move, a landing on the bed ends it
+                self.events[name].append(sim.t - sim.dt if name == "remesh" else sim.t)
+        self.seen = counts
+
+    def outputs_state(self) -> dict[str, Any]:
+        """Its members of the outputs' share of the checkpoint."""
+        return {"volume0": self.volume0,
+                **{f"{k}_times": list(v) for k, v in self.events.items()}}
+
+    def summary(self, result: RunResult) -> dict[str, Any]:
+        problem, solver = self.problem, self.problem.solver
+        volume = state_measures(problem.mesh, solver.velocity, solver.density,
+                                coords=solver.coordinates)["volume"]
+        # output times after the mass came to rest are never reached: nothing is written for
+        # them, the state at rest (profiles/*_final.csv, the last VTU) stands for them
+        at_rest = list(self.at_times.pending) if result.status == "stopped" else []
+        return {
+            "t_final": result.t_final,
+            "steps": result.steps,
+            "rejected_steps": result.rejected_steps,
+            "rejections": result.rejections,
+            "outputs_at_rest": at_rest,   # output times after the stop: the rest state's
+            "remesh_times_s": self.events["remesh"],          # the mesh replaced
+            "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
+            "final_profiles_t": self.final,   # profiles/*_final.csv: the last accepted state
+            "skipped_remeshes": result.skipped_remeshes,
+            "history_restarts": result.history_restarts,   # surface tension on/off
+            "nonlinear_iterations": result.nonlinear_iterations,
+            "linear_solves": result.linear_solves,
+            "wall_time_s": result.wall_time_s,
+            "stop_time_s": None,       # a kind that stops at rest or has a runout says
+            "runout_m": None,
+            "volume_relative_error": abs(volume - self.volume0) / self.volume0,
+            "n_triangles": problem.mesh.ne,
+            "n_dofs": solver.space.ndof,
+            "resumed": self.resumed,
+        }
+
+
 class _Run:
     """One run's files wired to its loop: each is a named callback on a schedule, after
     the problem's parts, and gives its share of the checkpoint (``save_state``); what they
@@ -151,17 +214,9 @@ class _Run:
         self.resumed = resume is not None
         sim = self.sim = problem.simulation
         saved = resume.outputs if resume is not None else None
-        self.volume0 = (saved or {}).get("volume0") or state_measures(
-            problem.mesh, problem.solver.velocity, problem.solver.density,
-            coords=problem.solver.coordinates)["volume"]
         callbacks = sim.callbacks
         self.diagnostics = DiagnosticsLog(run_dir, saved, columns=callbacks.columns())
         self.fields = FieldSnapshots(run_dir, problem, saved, cell_data=callbacks.fields)
-        # when the mesh was replaced and when a surface node landed on the bed (the figures
-        # mark them: each changes the kinetic energy at once)
-        self.events = {name: [float(t) for t in (saved or {}).get(f"{name}_times", [])
-                              if isinstance(t, int | float)] for name in EVENTS}
-        self.events_seen = _event_counts(problem)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)
         if resume is not None:   # those still ahead (the configuration may have changed them)
@@ -174,15 +229,18 @@ class _Run:
                           if self.frames is not None else None)
         if self.animation is not None:
             self.animation.next = (saved or {}).get("animation_next", self.animation.next)
+        self.record = RunRecord(problem, saved, self.resumed, self.at_times)
         # the files, after the problem's parts (they read the advanced state)
         add_callback(sim, self._record, "diagnostics")
+        add_callback(sim, self.record, "run", first=True)   # the others refine its members
         add_callback(sim, self.bar, "progress")
         add_callback(sim, self.at_times, "output_times")
         add_callback(sim, lambda s: self.fields.write(s.t), "fields",
                      schedule=EveryNSteps(config.output.vtk_every))
         if self.animation is not None:
             add_callback(sim, self.animation, "animation")
-        sim.checkpoint, sim.checkpoint_every = self.checkpoint, config.output.checkpoint_every
+        add_callback(sim, self.checkpoint, "checkpoint",   # last: of the step's whole state
+                     schedule=EveryNSteps(config.output.checkpoint_every))
 
     # --- callbacks ----------------------------------------------------------------------
     def _record(self, s: Simulation) -> None:
@@ -198,20 +256,13 @@ class _Run:
                               speed, problem.solver.coordinates)
         self.diagnostics.write(row)
         s.callbacks.record(row)
-        counts = _event_counts(problem)
-        for name, count in counts.items():
-            if count > self.events_seen[name]:
-                # a remesh comes before the step's move, a landing on the bed ends it
-                self.events[name].append(s.t - s.dt if name == "remesh" else s.t)
-        self.events_seen = counts
 
     def _outputs_at(self, s: Simulation, t: float) -> None:
         write_profiles(self.run_dir, self.problem, t)
         self.fields.write(t)
 
     def checkpoint(self, s: Simulation) -> None:
-        outputs: dict[str, Any] = {"volume0": self.volume0,
-                                   **{f"{k}_times": list(v) for k, v in self.events.items()},
+        outputs: dict[str, Any] = {**self.record.outputs_state(),
                                    "pending_times": list(self.at_times.pending),
                                    "animation_next": (self.animation.next
                                                       if self.animation is not None else None)}
@@ -224,7 +275,7 @@ class _Run:
 
     # --- the run --------------------------------------------------------------------------
     def execute(self) -> dict[str, Any]:
-        sim, run_dir, problem = self.sim, self.run_dir, self.problem
+        sim, run_dir = self.sim, self.run_dir
         if not self.resumed:
             self.fields.write(0.0)
             if self.frames is not None:
@@ -252,36 +303,9 @@ class _Run:
             self.bar.close("" if not stopped else "at rest" if rest is None
                            else f"at rest from t = {rest:.3f} s", complete=stopped)
             self.diagnostics.close()
-        final = self._write_final_state() if crashed is None else None
-        # output times after the mass came to rest are never reached: nothing is written for
-        # them, the state at rest (profiles/*_final.csv, the last VTU) stands for them
-        at_rest = list(self.at_times.pending) if result.status == "stopped" else []
-        solver = problem.solver
-        volume = state_measures(problem.mesh, solver.velocity, solver.density,
-                                coords=solver.coordinates)["volume"]
-        summary: dict[str, Any] = _summary_head(self.config, result.status,
-                                                result.message) | {
-            "t_final": result.t_final,
-            "steps": result.steps,
-            "rejected_steps": result.rejected_steps,
-            "rejections": result.rejections,
-            "outputs_at_rest": at_rest,   # output times after the stop: the rest state's
-            "remesh_times_s": self.events["remesh"],          # the mesh replaced
-            "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
-            "final_profiles_t": final,    # profiles/*_final.csv: the last accepted state
-            "skipped_remeshes": result.skipped_remeshes,
-            "history_restarts": result.history_restarts,   # surface tension on/off
-            "nonlinear_iterations": result.nonlinear_iterations,
-            "linear_solves": result.linear_solves,
-            "wall_time_s": result.wall_time_s,
-            "stop_time_s": None,
-            "runout_m": None,
-            "volume_relative_error": abs(volume - self.volume0) / self.volume0,
-            "n_triangles": problem.mesh.ne,
-            "n_dofs": solver.space.ndof,
-            "resumed": self.resumed,
-        }
-        summary |= sim.callbacks.summary(result)
+        self.record.final = self._write_final_state() if crashed is None else None
+        summary = (_summary_head(self.config, result.status, result.message)
+                   | sim.callbacks.summary(result))
         run_dir.write_json("summary.json", summary)
         self.bar.say(f"drawing the figures into {run_dir.path('plots')}")
         try:

@@ -62,15 +62,15 @@ def test_each_schedule_runs_its_callback_when_due_in_the_order_added() -> None:
     add_callback(sim, Callback(note("third"), EveryNSteps(3)), "third")
     add_callback(sim, note("interval"), "interval", schedule=TimeInterval(0.35))
     add_callback(sim, lambda s: reached.extend(at.reached), "at", schedule=at)
-    sim.observers = [note("observer")]
+    add_callback(sim, note("script"), "script")
     assert sim.run().status == "completed"
-    assert list(sim.callbacks) == ["every", "third", "interval", "at"]
+    assert list(sim.callbacks) == ["every", "third", "interval", "at", "script"]
     assert [s for n, s in seen if n == "every"] == list(range(1, 11))
     assert [s for n, s in seen if n == "third"] == [3, 6, 9]
     assert [s for n, s in seen if n == "interval"] == [4, 7]      # t = 0.4, 0.7 (0.35, 0.7)
     assert reached == [0.25, 0.5] and at.pending == [5.0]
-    # after each step: the callbacks, in the order added, then the unnamed observers
-    assert [n for n, s in seen if s == 9] == ["every", "third", "observer"]
+    # after each step: the callbacks, in the order added (a script's one of them)
+    assert [n for n, s in seen if s == 9] == ["every", "third", "script"]
 
 
 def test_a_name_is_given_once() -> None:

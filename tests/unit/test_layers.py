@@ -167,3 +167,31 @@ def test_a_kind_declares_itself_from_scenarios_without_the_engine() -> None:
     for rules, _ in BUILT_IN:
         path = SOURCE / Path(*rules.split(".")[1:]).with_suffix(".py")
         assert not any(name.split(".")[0] in ENGINES for name in imported(path)), path
+
+
+def files(pattern: str) -> set[str]:
+    """The files of granflow's source with a line that matches ``pattern``."""
+    return {f.split(":")[0] for f in source_lines(pattern)}
+
+
+def test_a_column_is_resolved_once() -> None:
+    """A run's scene (and the bed profile's file) is built from the configuration in one
+    place, ``ColumnSetup.of``; the configuration's checks build their own."""
+    assert files(r"\bbuild_scene\(") == {"geometry/scene.py", "scenarios/column_setup.py",
+                                          "scenarios/column_geometry_rules.py"}
+
+
+def test_three_questions_each_have_one_home() -> None:
+    """Is the run axisymmetric: ``fem/measure.py: coordinates_of`` reads the key (beside the
+    configuration's rules and the scene's check of a profile). Is there an erodible layer:
+    ``column_geometry_rules.erodible`` compares the thickness with 0 (the scene builds its
+    layer from the number). Is the bed the paper's: the scene decides from the profile keys
+    (the geometry rules test whether one is given)."""
+    rules = {"scenarios/column_rules.py", "scenarios/column_geometry_rules.py",
+             "scenarios/plug_flow_rules.py"}
+    assert files(r"\b(geometry|geo|g)\.axisymmetric\b") <= {"fem/measure.py",
+                                                             "geometry/scene.py", *rules}
+    assert files(r"^[^\"'#]*erodible_thickness\s*(>|<=)\s*0\b") == {
+        "scenarios/column_geometry_rules.py"}
+    assert files(r"bed_profile(_file)? is (not )?None") == {
+        "geometry/scene.py", "scenarios/column_geometry_rules.py"}

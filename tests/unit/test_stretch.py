@@ -12,7 +12,7 @@ from granflow.geometry.domains import column
 from granflow.geometry.mesh import END
 from granflow.geometry.stretch import LayerStretch
 from granflow.scenarios.column import build_column
-from granflow.scenarios.column_discretisation import layer_edge_sizes, layer_stretch
+from granflow.scenarios.column_setup import ColumnSetup
 
 HE = 0.005
 
@@ -52,7 +52,7 @@ def test_the_layers_cells_are_stretched_by_the_aspect(aspect: float) -> None:
     assert np.median(across) == pytest.approx(HE / 2, rel=0.05)
     assert np.median(along) == pytest.approx(aspect * HE / 2, rel=0.25)
     assert stretched.mesh.ne < 0.45 * iso.mesh.ne
-    assert shape_quality(stretched.mesh, layer_stretch(config)).min() > 0.4
+    assert shape_quality(stretched.mesh, ColumnSetup.of(config).stretch).min() > 0.4
 
 
 def test_a_remesh_and_a_lengthening_keep_the_stretched_cells_and_the_area() -> None:
@@ -61,7 +61,7 @@ def test_a_remesh_and_a_lengthening_keep_the_stretched_cells_and_the_area() -> N
     (its end: two edges) and its aspect, and the quality stays bounded."""
     config = load_config("trapezoid-erodible", ["mesh.layer_cells=2", "mesh.layer_aspect=4",
                                                 "mesh.size=0.03", "geometry.bed_length=0.4"])
-    stretch = layer_stretch(config)
+    stretch = ColumnSetup.of(config).stretch
     poly = column("trapezoid", 0.297, 0.255, 70.0, erodible_thickness=HE, bed_length=0.4)
     problem = build_column(config)
     mesh = problem.mesh
@@ -70,8 +70,8 @@ def test_a_remesh_and_a_lengthening_keep_the_stretched_cells_and_the_area() -> N
     assert area0 == pytest.approx(poly.area, rel=1e-12)
     xy[:, 0] += 0.02 * np.sin(np.pi * xy[:, 1] / 0.255) * (xy[:, 1] > HE)   # moved
     area1 = polygon_area(xy, BoundaryChain(mesh).segments)
-    remeshed = remesh(mesh, 0.03, layer_edge_sizes(config), layer_end=0.6, layer_top=HE,
-                      stretch=stretch)
+    remeshed = remesh(mesh, 0.03, ColumnSetup.of(config).layer_edge_sizes(), layer_end=0.6,
+                      layer_top=HE, stretch=stretch)
     new = remeshed.mesh
     chain = BoundaryChain(new)
     # (the surface was shifted by micrometres to restore the area the remesh's simplified

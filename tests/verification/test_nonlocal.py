@@ -26,6 +26,7 @@ from granflow.config import load_config
 from granflow.reference.incline import bagnold
 from granflow.scenarios.materials import nonlocal_law
 from granflow.scenarios.plug_flow import build_plug_flow
+from granflow.simulation.callbacks import add_callback
 
 NONLOCAL = ["material.rheology=nonlocal", "time.output_times=[]"]
 
@@ -66,7 +67,7 @@ def growth_rate(slope: float, factor: float) -> float:
         times.append(sim.t)
         norms.append(math.sqrt(ngs.Integrate(field.previous**2, problem.mesh)))
 
-    problem.simulation.observers = [record]
+    add_callback(problem.simulation, record, "record")
     problem.simulation.run()
     t, n = np.array(times), np.array(norms)
     late = t > 0.4

@@ -18,16 +18,13 @@ When it acts (the paper gives no rule): at a step where the surface turns by at 
 ``trigger_angle_deg`` at a concave node (delta theta >= trigger; default 90 deg: the
 surface turns back past the perpendicular into the domain, which is where a fold begins;
 0 = at every step). Once on it stays on while the largest concave turn is at least
-``release_angle_deg`` (hysteresis; default 45 deg): with a single threshold the tension
-straightened a fold just below 90 deg, switched off, the fold came back, and near rest the
-tension toggled every few steps, each switch a jump in the surface traction that the
-step-error control answered with ever smaller steps, and the rectangle over the layer
-crawled. i_c is the node of largest curvature C, signed as in (3.10), as the
-paper says: the most concave node, i.e. the fold. A convex nose is left alone: over a
-rigid bed the overturning front is a convex nose that deposition (Figure 2) lands on the
-bed, and taking |C| there put the tension on that nose at every step and shortened the
-trapezoid's runout by centimetres, as a tension always on does (docs/verification.md, the
-erodible bed; benchmarks/erodible.py).
+``release_angle_deg`` (hysteresis; default 45 deg), so that it does not toggle about one
+threshold as it straightens a fold: each switch is a jump in the surface traction, which
+the step-error control answers with smaller steps. i_c is the node of largest curvature
+C, signed as in (3.10), as the paper says: the most concave node, i.e. the fold. A convex
+nose is left alone: over a rigid bed the overturning front is a convex nose that
+deposition (Figure 2) lands on the bed, and a tension there acts as one always on does,
+shortening the runout (docs/verification.md, the erodible bed; benchmarks/erodible.py).
 """
 
 from __future__ import annotations

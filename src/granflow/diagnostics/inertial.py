@@ -17,6 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from granflow.physics import MuI
+from granflow.physics.well_posedness import well_posed_window
+
 EDGES = np.logspace(-8.0, 2.0, 201)
 
 
@@ -27,6 +30,15 @@ class InertialNumbers:
     weights: np.ndarray = field(default_factory=lambda: np.zeros(len(EDGES) + 1))
     largest: float = 0.0
     well_posed: tuple[float, float] | None = None   # (I_N1, I_N2) of the law, or None
+
+    @classmethod
+    def of(cls, law: object) -> InertialNumbers | None:
+        """The record of a mu(I) run, with its law's well-posed window (with a hysteretic
+        friction, those of its flow law); None for another law."""
+        law = getattr(law, "flow", law)
+        if not isinstance(law, MuI):
+            return None
+        return cls(well_posed=well_posed_window(law))
 
     def add(self, values: np.ndarray, weights: np.ndarray) -> None:
         """Cell means of I and their weights (area x dt) of one step."""

@@ -15,6 +15,8 @@ Sign convention: N is the outward unit normal. Norms are Frobenius, no factor 1/
 
 from __future__ import annotations
 
+import functools
+import operator
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -146,11 +148,7 @@ class ViscoplasticStress(_LhsOnly):
 
     def viscosity(self, u_lin: ngs.CoefficientFunction,
                   p_lin: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        if self.coords.axisymmetric:
-            square = self.coords.strain_rate_sq(u_lin)
-        else:
-            du = self.coords.strain_rate(u_lin)
-            square = ngs.InnerProduct(du, du)
+        square = self.coords.strain_rate_sq(u_lin)
         return self.rheology.effective_viscosity_sq(square, p_lin, NGSOLVE_OPS)
 
     def wall_deviatoric(self, u_lin: ngs.CoefficientFunction, p_lin: ngs.CoefficientFunction,
@@ -172,11 +170,9 @@ class ViscoplasticStress(_LhsOnly):
         m = self.viscosity(s.u_lin, s.p_lin)
         c = s.coords
         rules = AXISYMMETRIC_VISCOPLASTIC_RULES if c.axisymmetric else VISCOPLASTIC_RULES
-        if c.axisymmetric:   # in parts: much faster to assemble than the 3 x 3 tensor form
-            parts = [c.dx(m * part, intrules=rules) for part in c.strain_product_parts(s.u, s.v)]
-            return parts[0] + parts[1]
-        return c.dx(m * ngs.InnerProduct(c.strain_rate(s.u), c.strain_rate(s.v)),
-                    intrules=rules)
+        # in parts (r-z: in-plane and hoop): much faster to assemble than the 3 x 3 form
+        parts = [c.dx(m * part, intrules=rules) for part in c.strain_product_parts(s.u, s.v)]
+        return functools.reduce(operator.add, parts)
 
 
 @dataclass(frozen=True)

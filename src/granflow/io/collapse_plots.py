@@ -23,10 +23,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
-from granflow.geometry.domains import column  # noqa: E402
-from granflow.geometry.scene import build_scene  # noqa: E402
 from granflow.geometry.section import Section  # noqa: E402
-from granflow.geometry.sources import GeometryError  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
 from granflow.io.diagnostics import read_diagnostics  # noqa: E402
@@ -48,6 +45,17 @@ class Final:
     surface: dict[str, np.ndarray]
 
 
+@dataclass(frozen=True)
+class Drawn:
+    """What the figures draw of the run's set-up: the plane or r-z section, the initial
+    domain as a closed polyline (dashed, for reference) and the bed profile (None: the
+    paper's level bed z = 0, the figures' lower edge)."""
+
+    section: Section
+    outline: np.ndarray
+    bed_line: np.ndarray | None = None
+
+
 @dataclass
 class View:
     """What every figure of one run shares: labels, outline, times and their colours."""
@@ -56,21 +64,21 @@ class View:
     config: Any
     summary: dict[str, Any]
     fmt: FigureFormat
+    drawn: Drawn
 
     def __post_init__(self) -> None:
-        g = self.config.geometry
-        self.section = Section(g.axisymmetric)
+        self.section = self.drawn.section
         self.x = self.section.coordinate                  # the radius of a cylinder
-        self.bed = _bed_note(g.slope_deg, self.section)
-        self.outline = initial_outline(self.config)
-        self.bed_line = bed_line(self.config)      # None: the level bed z = 0
+        self.bed = _bed_note(self.config.geometry.slope_deg, self.section)
+        self.outline = self.drawn.outline
+        self.bed_line = self.drawn.bed_line
         self.final = final_state(self.run_dir, self.summary)
         rest = self.summary.get("outputs_at_rest") or [] if self.final is not None else []
-        drawn = [t for t in self.config.time.output_times
+        reached = [t for t in self.config.time.output_times
                  if profiles.profile_at(self.run_dir.root, "free_surface", t) is not None
                  and not any(abs(t - x) < 1e-9 for x in rest)]
         # an output time at the last state (t_end) is the last state's curve, drawn once
-        times = [t for t in drawn if self.final is None or abs(t - self.final.t) > 1e-6]
+        times = [t for t in reached if self.final is None or abs(t - self.final.t) > 1e-6]
         keep = np.unique(np.linspace(0, len(times) - 1, min(len(times), CURVES)).round())
         self.times = [times[int(i)] for i in keep]
         cmap = plt.get_cmap("viridis")
@@ -102,36 +110,15 @@ def final_state(run_dir: RunDir, summary: dict[str, Any]) -> Final | None:
     return Final(float(t), label, surface)
 
 
-def initial_outline(config: Any) -> np.ndarray:
-    """The column at t = 0 as a closed polyline (drawn dashed for reference)."""
-    g = config.geometry
-    try:
-        points = np.asarray(build_scene(g, config.gate).polygon.points, dtype=float)
-    except GeometryError:                       # a profile's file gone since the run
-        points = np.asarray(column(g.shape, g.width, g.height, g.front_angle_deg,
-                                   g.erodible_thickness, g.bed_length).points, dtype=float)
-    return np.vstack([points, points[:1]])
-
-
-def bed_line(config: Any) -> np.ndarray | None:
-    """The bed profile to draw (None: the level bed z = 0, the figures' lower edge)."""
-    g = config.geometry
-    if g.bed_profile is None and g.bed_profile_file is None:
-        return None
-    try:
-        return build_scene(g, config.gate).bed.points
-    except GeometryError:
-        return None
-
-
 def _draw_bed(view: View, ax: plt.Axes) -> None:
     if view.bed_line is not None:
         ax.plot(*view.bed_line.T, color="0.25", lw=1.4, zorder=1)
 
 
-def plot_collapse(run_dir: RunDir, config: Any) -> None:
+def plot_collapse(run_dir: RunDir, config: Any, drawn: Drawn) -> None:
     """Every figure of a collapse into plots/ (``output.figure_format``) and speed.gif."""
-    view = View(run_dir, config, RunDir.summary(run_dir.root), FigureFormat.of(config))
+    view = View(run_dir, config, RunDir.summary(run_dir.root), FigureFormat.of(config),
+                drawn)
     _free_surfaces(view)
     _zones(view)
     _sections(view)

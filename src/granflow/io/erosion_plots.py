@@ -20,16 +20,16 @@ from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
 
-def plot_erosion(run_dir: RunDir, config: Any, fmt: FigureFormat | None = None) -> None:
+def plot_erosion(run_dir: RunDir, config: Any, section: Section,
+                 fmt: FigureFormat | None = None) -> None:
     """plots/erosion.png (or the configured format), if the run has written its layer's
-    profiles."""
+    profiles; ``section``: plane, or the r-z section of a cylinder."""
     markers = profiles.final_profile(run_dir.root, "layer_markers")
     found = profiles.list_profiles(run_dir.root, "layer_markers")
     if markers is None and found:
         markers = found[-1].read()
     if markers is None:
         return
-    section = Section(config.geometry.axisymmetric)
     x = section.coordinate
     he = config.geometry.erodible_thickness
     fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), height_ratios=[1.3, 1, 1])

@@ -8,36 +8,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import ngsolve as ngs
-import numpy as np
 
 from granflow.ale.column_mover import ColumnMover
 from granflow.ale.deposition import Support
 from granflow.ale.free_surface import polygon_measure
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
-from granflow.ale.remesh import EdgeSize
 from granflow.ale.surface_tension import SurfaceTension
-from granflow.config import Config
-from granflow.fem.flow import Density, FlowSolver
-from granflow.fem.fluidity import FluidityField
+from granflow.fem.flow import FlowSolver
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
-from granflow.fem.measure import AXISYMMETRIC, PLANE, Coordinates
 from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
-from granflow.geometry.scene import build_scene
-from granflow.geometry.stretch import LayerStretch
-from granflow.physics import CoulombFriction, Rheology, gravity_vector
-from granflow.physics.regions import TwoMaterials, blend
+from granflow.physics import CoulombFriction, gravity_vector
+from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.fluidity import fluidity_field
-from granflow.scenarios.materials import (
-    augmentation,
-    build_side_walls,
-    friction_law,
-    hysteretic,
-    layer_material,
-)
+from granflow.scenarios.materials import augmentation, build_side_walls
 
 
 @dataclass
@@ -63,93 +50,57 @@ class ColumnDiscretisation:
                 self.mesh.ngmesh.Coordinates(), triangles(self.mesh))
 
 
-def layer_stretch(config: Config) -> LayerStretch:
-    """The erodible layer's cells mesh.layer_aspect times longer along the bed than across
-    it (``geometry/stretch.py``; 1, or no layer: isotropic)."""
-    return LayerStretch(config.geometry.erodible_thickness, config.mesh.layer_aspect)
-
-
-def layer_cell_size(config: Config) -> float:
-    """The edge length, in the stretched coordinates the mesh is made in, that gives the
-    layer mesh.layer_cells cells across: h_e / layer_cells, times mesh.layer_aspect."""
-    fine = config.geometry.erodible_thickness / config.mesh.layer_cells
-    return min(layer_stretch(config).length(fine), config.mesh.size)
-
-
-def layer_edge_sizes(config: Config) -> EdgeSize | None:
-    """Over an erodible layer of thickness h_e: edges lying within 2 h_e above the bed get
-    the layer's cell size (``layer_cell_size``: the bed, the layer's top and its end), so
-    that the layer has mesh.layer_cells cells across; Netgen grades the rest up to
-    mesh.size."""
-    he = config.geometry.erodible_thickness
-    if he <= 0:
-        return None
-    fine, size = layer_cell_size(config), config.mesh.size
-    bed = build_scene(config.geometry, config.gate).bed     # heights above the bed profile
-    return lambda p, q: fine if bed.height(np.array([p, q])).max() <= 2 * he else size
-
-
-def layer_end(config: Config, moving_x: float) -> float:
-    """Where the meshed erodible layer ends: at geometry.bed_length, or with mesh.layer_ahead
-    > 0 that far ahead of the furthest moving material (at the start, the column's foot),
-    never beyond geometry.bed_length (``ColumnRemesher`` lengthens it as the flow comes)."""
-    geo, ahead = config.geometry, config.mesh.layer_ahead
-    return geo.bed_length if ahead <= 0 else min(geo.bed_length, moving_x + ahead)
-
-
-def coordinates(config: Config) -> Coordinates:
-    """Plane strain, or r-z for an axisymmetric column (``fem/measure.py``)."""
-    return AXISYMMETRIC if config.geometry.axisymmetric else PLANE
-
-
-def friction_walls(config: Config) -> list[str]:
+def friction_walls(setup: ColumnSetup) -> list[str]:
     """The boundaries with Coulomb friction and the normal penalty: the bed, the wall at
     x = 0 unless it is the symmetry axis, and the far end of an erodible layer."""
-    walls = [BED] if config.geometry.axisymmetric else [BED, WALL]
-    walls += [GATE] if config.gate.enabled else []
-    return [*walls, END] if config.geometry.erodible_thickness > 0 else walls
+    walls = [BED] if setup.axisymmetric else [BED, WALL]
+    walls += [GATE] if setup.scene.gate is not None else []
+    return [*walls, END] if setup.erodible else walls
 
 
-def discretise(config: Config, mesh: ngs.Mesh,
+def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
                layer: LayerMaterial | None = None) -> ColumnDiscretisation:
     """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``;
     in axisymmetry the left boundary is the axis: u_r = 0 there, no friction, no penalty.
     A layer of its own material (``[layer]``) gets the blended law and density, with the
     indicator filled from the tracked region ``layer``."""
+    config, scene, coords = setup.config, setup.scene, setup.coordinates
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
     load = bnd.normal_load
     walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load)]
-    if not geo.axisymmetric:
+    if not coords.axisymmetric:
         walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg,
                                                         num.eps_friction), load))
-    if geo.erodible_thickness > 0:   # the layer's far end: frictionless, u.N = 0 (domains.py)
+    if setup.erodible:   # the layer's far end: frictionless, u.N = 0 (domains.py)
         walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
-    scene = build_scene(geo, config.gate)     # the bed profile, the walls, a gate
     gate_speed = ngs.Parameter(0.0) if scene.gate is not None else None
     if scene.gate is not None:     # slides up along itself: friction against its motion
         walls.append(FrictionWall(GATE, CoulombFriction(scene.gate.friction_deg,
                                                         num.eps_friction), load,
                                   velocity=gate_speed * ngs.CF(scene.gate.line.direction)))
     st = config.surface_tension
-    mobilisation = MobilisationField(mesh) if hysteretic(config) else None
+    materials = setup.materials
+    mobilisation = MobilisationField(mesh) if materials.hysteretic else None
     fraction = (ngs.GridFunction(ngs.L2(mesh, order=0))
-                if layer_material(config) is not None else None)
+                if materials.layer is not None else None)
     # a plain L2 function is 0 on a boundary element: the walls read the adjacent
     # triangle's (fem/engine.py: read_on_walls), the volume the function itself
     share = fraction
-    fluidity = fluidity_field(config, mesh, coords=coordinates(config), fraction=share,
+    fluidity = fluidity_field(config, materials, mesh, coords=coords, fraction=share,
                               rough=BED if bnd.bed_fluidity == "zero" else "")
-    rheology, density = _materials(config, mobilisation, fluidity, fraction, share)
+    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
+    side_walls, augmented = build_side_walls(config), augmentation(config)
+    rheology, density = materials.law(num.eps, *state, share=share, fluidity=(
+        fluidity.current if fluidity is not None else 0.0))
     solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
                         linear_solver=direct_solver(num.linear_solver),
                         initial_guess=num.initial_guess,
                         surface_tension_on=SURFACE if st.enabled else None,
-                        side_walls=build_side_walls(config),
-                        augmentation=augmentation(config),
-                        scheme=config.time.scheme, coordinates=coordinates(config),
-                        axis=WALL if geo.axisymmetric else "",
+                        side_walls=side_walls, augmentation=augmented,
+                        scheme=config.time.scheme, coordinates=coords,
+                        axis=WALL if coords.axisymmetric else "",
                         anderson_depth=num.anderson_depth, fluidity=fluidity,
                         fluidity_coupling=num.fluidity_coupling)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
@@ -164,31 +115,9 @@ def discretise(config: Config, mesh: ngs.Mesh,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction, tension=tension,
-                        measure=polygon_measure(geo.axisymmetric),
+                        measure=polygon_measure(coords.axisymmetric),
                         support=Support(scene.bed, scene.wall), gate=scene.gate,
                         gate_speed=gate_speed)
     out = ColumnDiscretisation(mesh, solver, mover, fraction, mobilisation)
     out.set_fraction(layer)
     return out
-
-
-def _materials(config: Config, mobilisation: MobilisationField | None,
-               fluidity: FluidityField | None, fraction: ngs.GridFunction | None,
-               share: ngs.CoefficientFunction | None) -> tuple[Rheology, Density]:
-    """One material: [material]'s law and density. A layer of its own: both blended with
-    the indicator ``share``, a piecewise constant share of layer material per triangle, read
-    on the walls from the adjacent triangle (``fem/engine.py: read_on_walls``: a plain L2
-    function is 0 on a boundary element, which would give the Coulomb walls' load under the
-    layer the column's law). A
-    hysteretic friction reads the mobilisation field (``fem/mobilisation_field.py``), a
-    nonlocal law the fluidity (``fem/fluidity.py``)."""
-    eps = config.numerics.eps
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    g = fluidity.current if fluidity is not None else 0.0
-    layer = layer_material(config)
-    if layer is None or fraction is None or share is None:
-        return (friction_law(config.material, eps, *state, fluidity=g),
-                config.material.density)
-    law = TwoMaterials(friction_law(config.material, eps, *state, fluidity=g),
-                       friction_law(layer, eps, *state, fluidity=g), share, fraction)
-    return law, blend(config.material.density, layer.density, share)

@@ -15,6 +15,12 @@ if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
 
 
+def erodible(c: Config) -> bool:
+    """A column over an erodible layer (geometry.erodible_thickness > 0): the one test,
+    registered as the column's ``KindRules.erodible_layer``."""
+    return c.geometry.erodible_thickness > 0
+
+
 def scene(c: Config) -> Scene:
     """The column's scene (raises ``GeometryError``)."""
     return build_scene(c.geometry, c.gate)
@@ -29,11 +35,11 @@ def geometry_problems(c: Config) -> Iterator[str]:
                "the slopes (gravity is vertical); set geometry.slope_deg = 0 and incline the "
                "profile")
         return
-    if profile and g.erodible_thickness > 0 and c.mesh.layer_aspect != 1:
+    if profile and erodible(c) and c.mesh.layer_aspect != 1:
         yield (f"mesh.layer_aspect = {c.mesh.layer_aspect!r} needs the level bed: the "
                "stretched layer cells follow z = 0 (remove geometry.bed_profile, or set "
                "mesh.layer_aspect = 1)")
-    if profile and g.erodible_thickness > 0 and c.mesh.layer_ahead > 0:
+    if profile and erodible(c) and c.mesh.layer_ahead > 0:
         yield (f"mesh.layer_ahead = {c.mesh.layer_ahead!r} needs the level bed (the layer is "
                "lengthened along z = 0); set mesh.layer_ahead = 0 with a bed profile")
     if c.gate.enabled and c.numerics.method == "augmented-lagrangian":

@@ -33,11 +33,11 @@ import shapely
 
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.measure import coordinates_of
 from granflow.fem.sampling import values_at
 from granflow.geometry.layer_material import LayerMaterial
-from granflow.geometry.scene import build_scene
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
-from granflow.scenarios.materials import layer_material
+from granflow.scenarios.column_setup import ColumnSetup
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.state_spec import (
@@ -62,17 +62,16 @@ COLUMNS = ("layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
            "column_front_x", "erosion_depth_max", "layer_area_drift")
 
 
-def displacement_threshold(config: Config) -> float:
+def displacement_threshold(setup: ColumnSetup) -> float:
     """One grain diameter of the layer material: what counts as displaced."""
-    layer = layer_material(config) or config.material
-    return layer.grain_diameter
+    return setup.materials.of_layer.grain_diameter
 
 
 def erosion_figure(run_dir: Any, config: Config) -> None:
     """plots/erosion.png (``io/erosion_plots.py``), if the run wrote the layer's profiles."""
     from granflow.io.erosion_plots import plot_erosion
 
-    plot_erosion(run_dir, config)
+    plot_erosion(run_dir, config, coordinates_of(config.geometry))
 
 
 @dataclass
@@ -84,7 +83,7 @@ class LayerTracking(Outputs):
     share: ClassVar[Share] = {"layer_material": may_lack(record(MATERIAL)),   # restore says
                               "layer_largest": may_lack(tuple_of(REAL, REAL))}  # if missing
 
-    config: Config
+    setup: ColumnSetup
     current: ColumnDiscretisation
     material: LayerMaterial
     line_velocity: np.ndarray = field(init=False)
@@ -95,20 +94,20 @@ class LayerTracking(Outputs):
     largest_mobilised: float = 0.0
 
     def __post_init__(self) -> None:
-        self.threshold = displacement_threshold(self.config)
+        self.threshold = displacement_threshold(self.setup)
         self.sample()
 
     @classmethod
-    def start(cls, config: Config, current: ColumnDiscretisation) -> LayerTracking:
-        geo = config.geometry
-        bed = build_scene(geo, config.gate).bed
-        if bed.level and bed.points[0, 0] == 0 and bed.points[0, 1] == 0:   # z = 0 from x = 0
-            material = LayerMaterial.initial(geo.erodible_thickness, geo.bed_length,
-                                             config.mesh.layer_cells)
+    def start(cls, setup: ColumnSetup, current: ColumnDiscretisation) -> LayerTracking:
+        """The layer at t = 0: [0, bed_length] x [0, h_e] on the paper's bed, else along
+        the bed profile."""
+        geo, cells = setup.config.geometry, setup.config.mesh.layer_cells
+        if setup.paper_bed:
+            material = LayerMaterial.initial(setup.thickness, geo.bed_length, cells)
         else:
-            material = LayerMaterial.along_bed(geo.erodible_thickness, bed, geo.bed_length,
-                                               config.mesh.layer_cells)
-        return cls(config, current, material)
+            material = LayerMaterial.along_bed(setup.thickness, setup.bed, geo.bed_length,
+                                               cells)
+        return cls(setup, current, material)
 
     def sample(self) -> None:
         """The velocity u^n of the accepted state at the line and the markers, and its rate
@@ -117,7 +116,7 @@ class LayerTracking(Outputs):
         the ALE carries the free surface (to the same order in time)."""
         solver = self.current.solver
         u = solver.velocity
-        extrapolate = self.config.numerics.ale_extrapolation and solver.dt_previous > 0
+        extrapolate = self.setup.config.numerics.ale_extrapolation and solver.dt_previous > 0
         if extrapolate:
             rate = (u - solver.before_previous.components[0]) / solver.dt_previous
             u = ngs.CF((u, rate))
@@ -137,7 +136,7 @@ class LayerTracking(Outputs):
 
     def unmeshed(self) -> shapely.Geometry:
         """The layer at rest beyond the meshed layer's end (``mesh.layer_ahead``)."""
-        end, length = self.current.mover.end_x, self.config.geometry.bed_length
+        end, length = self.current.mover.end_x, self.setup.config.geometry.bed_length
         if end >= length:
             return shapely.Polygon()
         return shapely.box(end, 0.0, length, self.material.thickness)
@@ -200,7 +199,7 @@ class LayerTracking(Outputs):
     def erosion_depth(self) -> tuple[np.ndarray, np.ndarray]:
         """Bin centres along the bed (original position) and the depth displaced there:
         one bin per column of markers (a quarter of the layer's thickness wide)."""
-        length = self.config.geometry.bed_length
+        length = self.setup.config.geometry.bed_length
         bins = np.linspace(0.0, length, max(1, round(length / self.material.pitch)) + 1)
         depth = self.material.erosion_depth(self.threshold, bins)
         return 0.5 * (bins[1:] + bins[:-1]), depth

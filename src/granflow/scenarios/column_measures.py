@@ -23,12 +23,15 @@ from granflow.diagnostics.inertial import InertialNumbers
 from granflow.diagnostics.interface import lower_envelope
 from granflow.diagnostics.state import FLOWING_SPEED, flowing_cells
 from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.measure import coordinates_of
 from granflow.fem.sampling import cell_means, point_values, triangles, vertex_samples
+from granflow.geometry.domains import column
 from granflow.geometry.mesh import signed_areas
-from granflow.geometry.scene import build_scene
+from granflow.geometry.sources import GeometryError
 from granflow.physics import MuI
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.column_remesher import ColumnRemesher
+from granflow.scenarios.column_setup import ColumnSetup
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
 from granflow.simulation.state_spec import (
@@ -51,10 +54,22 @@ def _history() -> dict[str, list[float]]:
 
 
 def collapse_figures(run_dir: Any, config: Config) -> None:
-    """The figures of a collapse and its animation (``io/collapse_plots.py``)."""
-    from granflow.io.collapse_plots import plot_collapse
+    """The figures of a collapse and its animation (``io/collapse_plots.py``), with its
+    set-up's section, initial domain and bed profile."""
+    from granflow.io.collapse_plots import Drawn, plot_collapse
 
-    plot_collapse(run_dir, config)
+    try:
+        setup = ColumnSetup.of(config)
+    except GeometryError:          # a profile's file gone since the run: the built-in shape
+        g = config.geometry
+        points = np.asarray(column(g.shape, g.width, g.height, g.front_angle_deg,
+                                   g.erodible_thickness, g.bed_length).points, dtype=float)
+        drawn = Drawn(coordinates_of(g), np.vstack([points, points[:1]]))
+    else:
+        points = np.asarray(setup.scene.polygon.points, dtype=float)
+        drawn = Drawn(setup.coordinates, np.vstack([points, points[:1]]),
+                      None if setup.paper_bed else setup.bed.points)
+    plot_collapse(run_dir, config, drawn)
 
 
 @dataclass
@@ -68,7 +83,7 @@ class ColumnMeasures(Outputs):
                            for name in _history()}),
         "inertial": may_lack(or_none(dataclass_of(InertialNumbers)))}
 
-    config: Config
+    setup: ColumnSetup
     current: ColumnDiscretisation
     remesher: ColumnRemesher
     simulation: Simulation
@@ -78,10 +93,9 @@ class ColumnMeasures(Outputs):
     def front(self) -> float:
         """Front X: the rightmost point of the mass; over an erodible layer of thickness
         h_e, the rightmost surface point more than 1 mm above the undisturbed layer."""
-        he = self.config.geometry.erodible_thickness
-        if he <= 0:
+        if not self.setup.erodible:
             return front_diag.front_position(self.current.mesh.ngmesh.Coordinates())
-        return front_diag.thick_front(self.surface_above_bed(), he + 1e-3)
+        return front_diag.thick_front(self.surface_above_bed(), self.setup.thickness + 1e-3)
 
     def surface_above_bed(self) -> np.ndarray:
         """The free surface as (x, height above the bed profile)."""
@@ -96,15 +110,13 @@ class ColumnMeasures(Outputs):
     @cached_property
     def initial_front(self) -> float:
         """X_g: the mass's front on the bed at t = 0 (the base width on the paper's bed)."""
-        scene = build_scene(self.config.geometry, self.config.gate)
+        scene = self.setup.scene
         on_bed = np.abs(scene.bed.height(scene.mass)) <= 1e-9 * max(scene.size, 1e-9)
         return float(scene.mass[on_bed, 0].max()) if on_bed.any() else scene.front_x()
 
     def _start_x(self, xy: np.ndarray) -> float:
         """Where stations start: the wall x = 0 of the paper's bed, else the mass's left."""
-        scene_default = (self.config.geometry.bed_profile is None
-                         and self.config.geometry.bed_profile_file is None)
-        return 0.0 if scene_default else float(xy[:, 0].min())
+        return 0.0 if self.setup.paper_bed else float(xy[:, 0].min())
 
     def shape_measures(self, cell_speed: np.ndarray) -> dict[str, float]:
         """Front, its speed (cells touching the front vertex) and the height at the wall."""
@@ -212,12 +224,13 @@ class ColumnMeasures(Outputs):
         h = {k: np.asarray(v) for k, v in self.history.items()}
         xy = mesh.ngmesh.Coordinates()
         surface = self.surface()
+        revolved = self.setup.axisymmetric
         stop = front_diag.stop_time(h["t"], h["flowing_fraction"],
-                                    self.config.time.rest_fraction)
+                                    self.setup.config.time.rest_fraction)
         return {
             "runout_m": self.front(),
             "runout_1mm_m": front_diag.thick_front(
-                self.surface_above_bed(), self.config.geometry.erodible_thickness + 1e-3),
+                self.surface_above_bed(), self.setup.thickness + 1e-3),
             "surface_edge_spread": front_diag.surface_edge_spread(surface),
             "stop_time_s": stop,
             "all_cells_static_s": front_diag.stop_time(h["t"], h["flowing_fraction"]),
@@ -226,8 +239,8 @@ class ColumnMeasures(Outputs):
             "front_settle_time_s": front_diag.settle_time(h["t"], h["front_x"]),
             "wall_height_m": self.wall_height(xy),
             **({"axis_height_m": self.wall_height(xy)}      # h_inf of a cylinder
-               if self.config.geometry.axisymmetric else {}),
-            ("initial_volume_m3" if self.config.geometry.axisymmetric else "initial_area_m2"):
+               if revolved else {}),
+            ("initial_volume_m3" if revolved else "initial_area_m2"):
                 mover.initial_area - self.remesher.added,   # what the free-surface fix
                                                             # conserves (less a lengthening)
             "deposited_segments": mover.relabelled_segments,

@@ -20,18 +20,15 @@ from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.size_field import SizeField
 from granflow.ale.transfer import StateTransfer, transfer_tensor, transfer_vertices
-from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.geometry.stretch import LayerStretch
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
     discretise,
     friction_walls,
-    layer_edge_sizes,
-    layer_end,
-    layer_stretch,
 )
 from granflow.scenarios.column_layer import LayerTracking
+from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.column_sizes import refit_due, refitted, remesh_sizes
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
@@ -56,7 +53,7 @@ SIZE_FIELD: Share = {   # ``SizeField.state``: the layer's windows and the movin
 class ColumnRemesher:
     """The loop's ``Remesher`` for a column (``simulation.py``)."""
 
-    config: Config
+    setup: ColumnSetup
     current: ColumnDiscretisation
     simulation: Simulation
     remeshes: int = 0
@@ -79,13 +76,13 @@ class ColumnRemesher:
     def stretch(self) -> LayerStretch:
         """The layer's stretched cells (``geometry/stretch.py``): kept by every remesh, and
         the coordinates in which the mesh's quality is measured."""
-        return layer_stretch(self.config)
+        return self.setup.stretch
 
     def needs_remesh(self) -> bool:
         """Worst triangle below mesh.remesh_quality, or below half of what a fresh mesh of
         this domain achieved (a sharp front tip caps the quality any mesh can reach); or a
         bed edge across a corner of the bed profile (the corner made a vertex again)."""
-        floor = min(self.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
+        floor = min(self.setup.config.mesh.remesh_quality, 0.5 * self.fresh_quality)
         degraded = floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
         return (degraded or self.layer_end_due() is not None
                 or self.current.mover.straddles_corner() or self.refit_due())
@@ -94,14 +91,14 @@ class ColumnRemesher:
         """An adaptive mesh no longer fits the flow: it has come within half of
         mesh.flow_margin of coarse cells, or left much of the fine mesh at rest
         (``column_sizes.refit_due``)."""
-        return self.size_field is not None and refit_due(self.config, self.current,
+        return self.size_field is not None and refit_due(self.setup, self.current,
                                                          self.size_field)
 
     def layer_end_due(self) -> float | None:
         """The meshed layer's new end when material faster than the flowing threshold has
         come within half of mesh.layer_ahead of its end (else None)."""
-        ahead, mover = self.config.mesh.layer_ahead, self.current.mover
-        if ahead <= 0 or mover.end_x >= self.config.geometry.bed_length:
+        ahead, mover = self.setup.config.mesh.layer_ahead, self.current.mover
+        if ahead <= 0 or mover.end_x >= self.setup.config.geometry.bed_length:
             return None
         mesh = self.current.mesh     # u^n at the vertices: its P2 vertex coefficients
         speed = np.linalg.norm(vertex_values(self.current.solver.previous.components[0]),
@@ -110,36 +107,37 @@ class ColumnRemesher:
         furthest = float(mesh.ngmesh.Coordinates()[moving, 0].max()) if moving.any() else 0.0
         if furthest < mover.end_x - 0.5 * ahead:
             return None
-        return layer_end(self.config, furthest)
+        return self.setup.layer_end(furthest)
 
     def degraded(self) -> bool:
         """Worst triangle below mesh.failure_remesh_quality: a failed nonlinear solve on
         this mesh is answered by a remesh before a smaller step."""
-        floor = self.config.mesh.failure_remesh_quality
+        floor = self.setup.config.mesh.failure_remesh_quality
         return floor > 0 and float(shape_quality(self.current.mesh, self.stretch).min()) < floor
 
     def remesh(self) -> None:
         """New mesh of the same boundary; (u, p) at t^n and t^{n-1} transferred onto it."""
         old = ColumnDiscretisation(self.current.mesh, self.current.solver, self.current.mover)
         end = self.layer_end_due()
-        sizes: dict = {"edge_size": layer_edge_sizes(self.config)}
+        setup = self.setup
+        sizes: dict = {"edge_size": setup.layer_edge_sizes()}
         if self.size_field is not None:      # refitted to the flow at t^n
             self.refits += self.refit_due()
-            self.size_field = refitted(self.config, old, self.size_field,
+            self.size_field = refitted(setup, old, self.size_field,
                                        old.mover.end_x if end is None else end)
-            sizes = remesh_sizes(self.config, self.size_field)
-        remeshed = remesh(old.mesh, self.config.mesh.size, measure=old.mover.measure,
-                          layer_end=end, layer_top=self.config.geometry.erodible_thickness,
+            sizes = remesh_sizes(setup, self.size_field)
+        remeshed = remesh(old.mesh, setup.config.mesh.size, measure=old.mover.measure,
+                          layer_end=end, layer_top=setup.config.geometry.erodible_thickness,
                           stretch=self.stretch, bed=old.mover.support.bed, **sizes)
-        new = discretise(self.config, remeshed.mesh,
+        new = discretise(setup, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
         added = remeshed.area_added
         change = (new.mover.area() - old.mover.area() - added) / old.mover.initial_area
         self.changes.append(change)
         self.restored.append(remeshed.area_restored)
         self.unrecorded_change += change
-        transfer = StateTransfer(new.solver.space, friction_walls(self.config),
-                                 self.config.boundary.penalty, new.solver.coordinates)
+        transfer = StateTransfer(new.solver.space, friction_walls(setup),
+                                 setup.config.boundary.penalty, new.solver.coordinates)
         new.solver.inherit(old.solver, transfer.apply, transfer_tensor, transfer_vertices)
         new.mover.inherit(old.mover)
         if added:                         # the free-surface fix conserves the longer layer
@@ -161,7 +159,7 @@ class ColumnRemesher:
         out = {"remeshes": self.remeshes,
                "remesh_area_change_max": max(map(abs, self.changes), default=0.0),
                "remesh_area_restored_max": max(map(abs, self.restored), default=0.0)}
-        if self.config.mesh.layer_ahead > 0 and self.config.geometry.erodible_thickness > 0:
+        if self.setup.config.mesh.layer_ahead > 0 and self.setup.erodible:
             out |= {"layer_lengthenings": self.lengthenings, "layer_added": self.added,
                     "layer_meshed_end_m": self.current.mover.end_x}
         if self.size_field is not None:

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 from granflow.config.kinds import KindRules, register_rules
 from granflow.scenarios.column_geometry_rules import (
+    erodible,
     geometry_inert_keys,
     geometry_problems,
     resolve_geometry,
@@ -31,11 +32,6 @@ def describe(c: Config) -> str:
     return f"{shape} column {g.width:g} x {g.height:g} m{bed}"
 
 
-def erodible(c: Config) -> bool:
-    """A column over an erodible layer (geometry.erodible_thickness > 0)."""
-    return c.geometry.erodible_thickness > 0
-
-
 def problems(c: Config) -> Iterator[str]:
     """What a column cannot be: its mesh size against its sides, the layer against the
     column, a mesh velocity that moves the free surface, an axisymmetric column's limits,
@@ -45,11 +41,11 @@ def problems(c: Config) -> Iterator[str]:
     if m.size > side:
         yield (f"mesh.size = {m.size!r} must not exceed "
                f"min(geometry.width, geometry.height) = {side!r}")
-    if g.erodible_thickness > 0 and g.bed_length <= g.width:
+    if erodible(c) and g.bed_length <= g.width:
         yield (f"geometry.bed_length = {g.bed_length!r} must be greater than "
                f"geometry.width = {g.width!r} (the erodible layer must reach beyond the "
                "column)")
-    if g.erodible_thickness > 0 and 0 < m.layer_ahead < m.size:
+    if erodible(c) and 0 < m.layer_ahead < m.size:
         yield (f"mesh.layer_ahead = {m.layer_ahead!r} must be 0 (the whole layer meshed) "
                f"or at least mesh.size = {m.size!r} (the layer is lengthened by at least "
                "half of it at a time)")
@@ -132,7 +128,7 @@ def triangles(c: Config) -> tuple[float, float]:
     equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
     g, m = c.geometry, c.mesh
     layer = 0.0
-    if g.erodible_thickness > 0:
+    if erodible(c):
         fine = g.erodible_thickness / m.layer_cells
         layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
                  / m.layer_aspect)
@@ -164,7 +160,7 @@ def refine_space(c: Config, factor: int) -> dict[str, Any]:
     m = c.mesh
     out: dict[str, Any] = ({"mesh.cells_across": m.cells_across * factor}
                            if m.cells_across is not None else {"mesh.size": m.size / factor})
-    if c.geometry.erodible_thickness > 0:
+    if erodible(c):
         out["mesh.layer_cells"] = m.layer_cells * factor
     return out
 

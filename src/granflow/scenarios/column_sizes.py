@@ -14,41 +14,34 @@ import numpy as np
 
 from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.size_field import LEAD, SizeField, flow_size_field
-from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.fem.sampling import cell_means, triangles
-from granflow.geometry.profile import BedProfile
-from granflow.geometry.scene import build_scene
-from granflow.scenarios.column_discretisation import ColumnDiscretisation, layer_cell_size
+from granflow.scenarios.column_discretisation import ColumnDiscretisation
+from granflow.scenarios.column_setup import ColumnSetup
 
 RATE = 1.0   # 1/s: a cell sheared faster moves (at rest the regularised law creeps at ~eps)
 
 
-def base_size_field(config: Config) -> SizeField | None:
+def base_size_field(setup: ColumnSetup) -> SizeField | None:
     """The sizes of ``[mesh]`` (no windows yet), or None when the mesh is uniform:
     ``mesh.adaptive`` off, or nothing to adapt (a rigid bed whose bulk keeps mesh.size)."""
-    m, he = config.mesh, config.geometry.erodible_thickness
-    if not m.adaptive or (he <= 0 and m.rest_coarsening == 1):
+    m, he = setup.config.mesh, setup.thickness
+    if not m.adaptive or (not setup.erodible and m.rest_coarsening == 1):
         return None
     coarse = m.size * m.rest_coarsening
-    fine_layer = layer_cell_size(config) if he > 0 else 0.0
+    fine_layer = setup.layer_cell_size() if setup.erodible else 0.0
     coarse_layer = min(m.layer_rest_coarsening * fine_layer, coarse)
     return SizeField(m.size, coarse, fine_layer, max(fine_layer, coarse_layer), he,
                      m.flow_margin * m.size)
 
 
-def bed_profile(config: Config) -> BedProfile:
-    """The bed under the column (heights and levels of the size field)."""
-    return build_scene(config.geometry, config.gate).bed
-
-
-def initial_size_field(config: Config, end_x: float) -> SizeField | None:
+def initial_size_field(setup: ColumnSetup, end_x: float) -> SizeField | None:
     """The first mesh's field: the bulk fine everywhere, the layer fine from the wall to
     LEAD margins beyond the column's foot (``geometry.width``), within its meshed end."""
-    base = base_size_field(config)
+    base = base_size_field(setup)
     if base is None:
         return None
-    windows = np.array([[0.0, min(config.geometry.width + LEAD * base.margin, end_x)]])
+    windows = np.array([[0.0, min(setup.config.geometry.width + LEAD * base.margin, end_x)]])
     return SizeField(base.fine, base.coarse, base.layer_fine, base.layer_coarse,
                      base.layer_top, base.margin, windows, None)
 
@@ -63,27 +56,27 @@ def moving_vertices(current: ColumnDiscretisation) -> np.ndarray:
     return moving
 
 
-def refitted(config: Config, current: ColumnDiscretisation, field: SizeField,
+def refitted(setup: ColumnSetup, current: ColumnDiscretisation, field: SizeField,
              end_x: float) -> SizeField:
     """``field``'s sizes refitted to the current flow (``flow_size_field``), the layer
     meshed to ``end_x``."""
     xy = current.mesh.ngmesh.Coordinates()
     return flow_size_field(field, xy.copy(), moving_vertices(current),
-                           bed_profile(config).height, end_x)
+                           setup.bed.height, end_x)
 
 
-def refit_due(config: Config, current: ColumnDiscretisation, field: SizeField) -> bool:
+def refit_due(setup: ColumnSetup, current: ColumnDiscretisation, field: SizeField) -> bool:
     """Whether the flow has come within half the margin of coarse cells (``uncovered``) or
     left much of the fine mesh at rest (``overgrown``)."""
     xy = current.mesh.ngmesh.Coordinates()
-    moving, heights = xy[moving_vertices(current)], bed_profile(config).height
+    moving, heights = xy[moving_vertices(current)], setup.bed.height
     end = current.mover.end_x
     return field.uncovered(moving, heights, end) or field.overgrown(moving, heights, end)
 
 
-def remesh_sizes(config: Config, field: SizeField) -> dict[str, object]:
+def remesh_sizes(setup: ColumnSetup, field: SizeField) -> dict[str, object]:
     """What ``ale.remesh.remesh`` takes of the field: the largest edge, the boundary edges'
     sizes and the points where the mesh is finer."""
-    bed = bed_profile(config)
+    bed = setup.bed
     return {"maxh": field.maxh, "edge_size": field.edge_size(bed.height),
             "restrict": field.restrictions(bed.z)}

@@ -26,17 +26,17 @@ from granflow.fem.flow import FlowSolver
 from granflow.fem.fluidity import FluidityField
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import PLANE, Coordinates
-from granflow.scenarios.materials import nonlocal_law, nonlocal_materials
+from granflow.scenarios.materials import RunMaterials, nonlocal_law
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 
 
-def fluidity_field(config: Config, mesh: ngs.Mesh, *, coords: Coordinates = PLANE,
-                   periodic: bool = False, rough: str = "",
+def fluidity_field(config: Config, materials: RunMaterials, mesh: ngs.Mesh, *,
+                   coords: Coordinates = PLANE, periodic: bool = False, rough: str = "",
                    fraction: Any = None) -> FluidityField | None:
-    """The fluidity of the run's nonlocal materials on ``mesh`` (None without them); g = 0
-    on the boundaries ``rough`` (a "|"-joined list of labels) when A > 0."""
-    materials = nonlocal_materials(config)
+    """The fluidity of the run's nonlocal ``materials`` on ``mesh`` (None without them);
+    g = 0 on the boundaries ``rough`` (a "|"-joined list of labels) when A > 0."""
+    materials = materials.nonlocal_
     if not materials:
         return None
     laws = tuple(nonlocal_law(mat, config.numerics.eps) for mat in materials)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 from granflow.config import Config
@@ -11,18 +12,13 @@ from granflow.physics import Rheology, SideWallFriction
 from granflow.physics.hysteresis import HYSTERETIC
 from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields
 from granflow.physics.nonlocal_fluidity import NONLOCAL, NonlocalFluidity
+from granflow.physics.regions import TwoMaterials, blend
 
 
 def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
     """``material.rheology``: the regularised Drucker-Prager law (2.13), mu(I) or the
     nonlocal fluidity law (reading the field ``fluidity``)."""
     return material_law(config.material, config.numerics.eps, fluidity)
-
-
-def hysteretic(config: Config) -> bool:
-    """Whether a material of the run has a hysteretic friction (and so a mobilisation
-    state, ``physics/hysteresis.py``)."""
-    return any(mat.friction == HYSTERETIC.name for mat in run_materials(config))
 
 
 def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
@@ -47,18 +43,56 @@ def nonlocal_law(mat: Material, eps: float, fluidity: Any = 0.0) -> NonlocalFlui
     return NONLOCAL.build(mat, eps, LawFields(fluidity=fluidity))  # type: ignore[no-any-return]
 
 
-def run_materials(config: Config) -> tuple[Material, ...]:
-    """[material], and [layer]'s when the layer is a material of its own."""
-    layer = layer_material(config)
-    return (config.material,) if layer is None else (config.material, layer)
+@dataclass(frozen=True)
+class RunMaterials:
+    """The materials of a run, resolved once: [material], and an erodible layer's own
+    (``layer_material``; None when the layer is the column's material, or there is none)."""
+
+    column: Material
+    layer: Material | None = None
+
+    @property
+    def all(self) -> tuple[Material, ...]:
+        """[material], and [layer]'s when the layer is a material of its own."""
+        return (self.column,) if self.layer is None else (self.column, self.layer)
+
+    @property
+    def of_layer(self) -> Material:
+        """What the erodible layer is made of: its own material, else the column's."""
+        return self.column if self.layer is None else self.layer
+
+    @property
+    def hysteretic(self) -> bool:
+        """Whether a material of the run has a hysteretic friction (and so a mobilisation
+        state, ``physics/hysteresis.py``)."""
+        return any(mat.friction == HYSTERETIC.name for mat in self.all)
+
+    @property
+    def nonlocal_(self) -> tuple[Material, ...]:
+        """The run's materials when they follow the nonlocal law, else (): the rules allow
+        both or neither."""
+        return self.all if self.column.rheology == NONLOCAL.name else ()
+
+    def law(self, eps: float, mobilisation: Any = 0.0, per_triangle: Any = None,
+            fluidity: Any = 0.0, share: Any = None) -> tuple[Rheology, Any]:
+        """The run's law and density. One material: [material]'s. A layer of its own: both
+        blended with ``share``, the piecewise constant share of layer material per triangle
+        (``physics/regions.py``), which the walls read from the adjacent triangle
+        (``fem/engine.py: read_on_walls``: a plain L2 function is 0 on a boundary element,
+        which would give the Coulomb walls' load under the layer the column's law). A
+        hysteretic friction reads the mobilisation (``mobilisation``, ``per_triangle``), a
+        nonlocal law the fluidity (``friction_law``)."""
+        column = friction_law(self.column, eps, mobilisation, per_triangle, fluidity=fluidity)
+        if self.layer is None or share is None:
+            return column, self.column.density
+        layer = friction_law(self.layer, eps, mobilisation, per_triangle, fluidity=fluidity)
+        return (TwoMaterials(column, layer, share, share),
+                blend(self.column.density, self.layer.density, share))
 
 
-def nonlocal_materials(config: Config) -> tuple[Material, ...]:
-    """The run's materials when they follow the nonlocal law ([material], and [layer]'s
-    when it is a material of its own), else (): the rules allow both or neither."""
-    if config.material.rheology != NONLOCAL.name:
-        return ()
-    return run_materials(config)
+def run_materials(config: Config) -> RunMaterials:
+    """The run's materials (``RunMaterials``)."""
+    return RunMaterials(config.material, layer_material(config))
 
 
 def layer_material(config: Config) -> Material | None:

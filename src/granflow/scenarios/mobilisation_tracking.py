@@ -25,12 +25,11 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.transfer import transfer_cells
-from granflow.config import Config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.physics.hysteresis import Relaxation, pick, relaxation, relaxed
-from granflow.scenarios.materials import layer_material
+from granflow.scenarios.materials import RunMaterials
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack
@@ -52,7 +51,7 @@ class MobilisationTracking(Outputs):
     share: ClassVar[Share] = {"mobilisation": may_lack(array("cells")),   # restore says
                               "mobilisation_t": may_lack(TIME)}            # if missing
 
-    config: Config
+    materials: RunMaterials
     current: Host
     simulation: Simulation
     t: float = 0.0
@@ -75,19 +74,17 @@ class MobilisationTracking(Outputs):
 
     def relaxation(self) -> Relaxation:
         """The relaxation of each triangle's material."""
-        column = relaxation(self.config.material)
-        layer_mat = layer_material(self.config)
-        if layer_mat is None:
+        column = relaxation(self.materials.column)
+        if self.materials.layer is None:
             return column
-        layer = relaxation(layer_mat)
+        layer = relaxation(self.materials.layer)
         return Relaxation(*(self._share(getattr(column, k), getattr(layer, k))
                             for k in ("mobilisation_time", "rest_time", "shear_rate")))
 
     def start(self) -> None:
         """s at t = 0: each material's initial mobilisation (material at rest: 0)."""
-        layer_mat = layer_material(self.config) or self.config.material
-        self.field.values[:] = self._share(self.config.material.initial_mobilisation,
-                                           layer_mat.initial_mobilisation)
+        self.field.values[:] = self._share(self.materials.column.initial_mobilisation,
+                                           self.materials.of_layer.initial_mobilisation)
         self.t = 0.0
         self._coordinates = self.current.mesh.ngmesh.Coordinates().copy()
 
@@ -116,7 +113,7 @@ class MobilisationTracking(Outputs):
         xy = new.mesh.ngmesh.Coordinates()
         added = xy[triangles(new.mesh)].mean(axis=1)[:, 0] > old_end
         if added.any():
-            layer = layer_material(self.config) or self.config.material
+            layer = self.materials.of_layer
             new.mobilisation.values[added] = relaxed(layer.initial_mobilisation, 0.0,
                                                      layer.rest_time, self.t)
         self._coordinates = xy.copy()

@@ -25,7 +25,13 @@ from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu
 from granflow.reference.nonlocal_incline import steady_nonlocal_flow
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
 from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
-from granflow.scenarios.materials import augmentation, build_rheology, friction_law, nonlocal_law
+from granflow.scenarios.materials import (
+    augmentation,
+    build_rheology,
+    friction_law,
+    nonlocal_law,
+    run_materials,
+)
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
@@ -232,7 +238,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     force = gravity_vector(mat.gravity, geo.slope_deg)
     mobilisation = MobilisationField(mesh) if mat.friction == "hysteretic" else None
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    fluidity = fluidity_field(config, mesh, periodic=True, rough=BED)  # the bed is rough
+    fluidity = fluidity_field(config, run_materials(config), mesh, periodic=True,
+                              rough=BED)  # the bed is rough
     law = friction_law(mat, config.numerics.eps, *state,
                        fluidity=fluidity.current if fluidity is not None else 0.0)
     solver = FlowSolver(mesh, rheology=law,
@@ -272,7 +279,8 @@ def build_plug_flow(config: Config) -> PlugFlow:
     if fluidity is not None:
         add_callback(simulation, FluidityOutputs(problem), "fluidity")
     if mobilisation is not None:
-        problem.tracking = MobilisationTracking(config, problem, simulation)
+        problem.tracking = MobilisationTracking(run_materials(config), problem,
+                                                simulation)
         problem.tracking.start()
         add_callback(simulation, problem.tracking, "mobilisation")
     return problem

@@ -6,8 +6,7 @@ schedule says so, in the order they were added. A callback's ``func`` that is an
 
 A schedule is ``schedule(sim) -> bool``: ``EveryStep``, ``EveryNSteps``, ``TimeInterval``,
 ``AtTimes``. Given an ``action``, the last three run it themselves (``AtTimes`` as
-``action(sim, time)`` for each time reached), and can stand as a callback's func or an
-unnamed observer.
+``action(sim, time)`` for each time reached), and can stand as a callback's func.
 """
 
 from __future__ import annotations
@@ -54,14 +53,19 @@ class Callback:
 
 
 def add_callback(sim: Simulation, callback: Callback | Action, name: str,
-                 schedule: Schedule | None = None) -> Callback:
+                 schedule: Schedule | None = None, first: bool = False) -> Callback:
     """Add ``callback`` (or ``Callback(func, schedule)``) to ``sim.callbacks`` as ``name``,
-    after those already there; a name is given once."""
+    after those already there, or with ``first`` before them (a part whose declarations
+    the others may refine: the run's own summary members); a name is given once."""
     if not isinstance(callback, Callback):
         callback = Callback(callback, schedule if schedule is not None else EveryStep())
     if name in sim.callbacks:
         raise ValueError(f"the simulation has a callback named {name!r} already")
+    rest = dict(sim.callbacks) if first else {}
+    for other in rest:
+        del sim.callbacks[other]
     sim.callbacks[name] = callback
+    sim.callbacks.update(rest)
     return callback
 
 

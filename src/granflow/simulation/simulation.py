@@ -1,10 +1,11 @@
 """The time loop: mesh velocity -> move -> nonlinear solve -> accept/reject (section 3.3).
 
-It owns the stop criteria and says why it stopped; after each accepted step it runs its
-named callbacks (``simulation.callbacks[name]``, ``simulation/callbacks.py``), in the order
-they were added: the parts of the problem that carry state along (an erodible layer, a
-mobilisation state), then the run's files that read it; then the unnamed ``observers`` of a
-script. It knows no file format and no finite-element engine:
+It owns the stop criteria and says why it stopped; after each accepted step (and its
+stop tests) it runs its named callbacks (``simulation.callbacks[name]``,
+``simulation/callbacks.py``), in the order they were added, its one channel to whatever
+watches it: the parts of the problem that carry state along (an erodible layer, a
+mobilisation state), then the run's files that read it and the checkpoint; a script adds
+its own the same way. It knows no file format and no finite-element engine:
 the solver, the mesh motion and the remesher are protocols (``FlowStep``, ``MeshMotion``,
 ``Remesher``), so the loop imports and runs without NGSolve.
 
@@ -110,7 +111,6 @@ STALL_ADVICE = {     # by the most frequent failure while the run stalled (Rejec
     "exception": "See the rejections in summary.json",
 }
 
-Observer = Callable[["Simulation"], None]
 StopCriterion = Callable[["Simulation"], str | None]
 
 
@@ -132,7 +132,6 @@ class Simulation:
     t_end: float
     max_iterations: int
     mesh_motion: MeshMotion | None = None
-    observers: Sequence[Observer] = ()   # unnamed, after the callbacks (scripts, benchmarks)
     stop_criteria: Sequence[StopCriterion] = ()
     remesher: Remesher | None = None
     velocity_floor: float = 0.0
@@ -151,8 +150,6 @@ class Simulation:
     history_restarts: int = 0            # steps begun afresh after a jump of the forcing
     remeshed_this_step: bool = False
     rejections: dict[str, int] = field(default_factory=dict)
-    checkpoint: Observer | None = None   # called after a step once its stop test passed
-    checkpoint_every: int = 0
     interrupt: str | None = None         # set (by a signal handler) to end the run cleanly
     elapsed_before: float = 0.0          # s of wall time spent before a resume
     callbacks: Callbacks = field(default_factory=Callbacks)   # name -> Callback, in order
@@ -346,16 +343,15 @@ class Simulation:
                 continue
             self._accept(attempt)
             reason = next((r for c in self.stop_criteria if (r := c(self)) is not None), None)
+            stall = self._stalled() if reason is None else None
+            for callback in list(self.callbacks.values()):
+                callback(self)
             if reason is not None:
                 status, message = "stopped", reason
                 break
-            stall = self._stalled()
             if stall is not None:
                 status, message = "failed", stall
                 break
-            if (self.checkpoint is not None and self.checkpoint_every > 0
-                    and self.step % self.checkpoint_every == 0):
-                self.checkpoint(self)
         wall = self.elapsed_before = self.wall_time()
         self._start = 0.0
         return RunResult(
@@ -383,7 +379,3 @@ class Simulation:
                 self.remesher.remesh()
             except Exception:   # (the mesher's own errors too) the mesh in use is valid:
                 self.skipped_remeshes += 1   # go on; a tangling step asks again
-        for callback in list(self.callbacks.values()):
-            callback(self)
-        for observer in self.observers:
-            observer(self)
