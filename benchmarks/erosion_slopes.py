@@ -88,9 +88,11 @@ SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
             "mesh.layer_ahead=0.1",   # benchmarks/layer_ahead.py
-            "numerics.anderson_depth=3"]   # as trapezoid-erodible
+            "numerics.anderson_depth=3",   # as trapezoid-erodible
+            "surface_tension.length=mesh_size"]   # the study's rows: the tension of their time
 CELLS = 2   # across the layer, unless --cells says otherwise
-COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100"]
+COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100",
+          "mesh.adaptive=false"]   # every row ran on the uniform mesh
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
         "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
         "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "erosion_depth_max_m",

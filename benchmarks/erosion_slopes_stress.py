@@ -25,7 +25,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
-from common.results import write_json
+from common.results import read_results, write_json
 
 from granflow.io.vtk import read_snapshot, snapshots
 
@@ -80,9 +80,10 @@ def main() -> None:
     parser.add_argument("--runs", nargs="+", default=RUNS)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_slopes"))
     args = parser.parse_args()
-    results = {name: band_figures(args.out / "runs" / name) for name in args.runs}
-    write_json(args.out / "erosion_slopes_stress.json", results)
-    for name, rows in results.items():
+    store = args.out / "erosion_slopes_stress.json"
+    found = {name: band_figures(args.out / "runs" / name) for name in args.runs}
+    write_json(store, read_results(store) | found)    # the other runs' figures kept
+    for name, rows in found.items():
         print(name)
         for r in rows:
             if r["cells"]:
