@@ -31,7 +31,6 @@ import math
 import sys
 from pathlib import Path
 
-import ngsolve as ngs
 import numpy as np
 from common.results import read_results, report, write_results
 
@@ -39,9 +38,9 @@ from granflow.config import load_config
 from granflow.reference import beads
 from granflow.reference.incline import bagnold
 from granflow.reference.nonlocal_incline import steady_nonlocal_flow
+from granflow.scenarios.fluidity import fluidity_growth_rate
 from granflow.scenarios.materials import nonlocal_law
 from granflow.scenarios.plug_flow import build_plug_flow
-from granflow.simulation.callbacks import add_callback
 
 NONLOCAL = ["material.rheology=nonlocal", "time.output_times=[]", "material.viscosity=1e-4"]
 SLOPES = [22.0, 23.0, 24.0, 25.5, 27.0, 28.0, 30.0]
@@ -66,18 +65,7 @@ def growth_rate(slope: float, factor: float, cells: int = 16) -> float:
     h = factor * law().stopping_height(slope)
     problem = layer(slope, h, cells, "initial.fluidity=1e-3", "time.dt=5e-3",
                     "time.t_end=1.5")
-    field = problem.solver.fluidity
-    times, norms = [], []
-
-    def record(sim) -> None:
-        times.append(sim.t)
-        norms.append(math.sqrt(ngs.Integrate(field.previous**2, problem.mesh)))
-
-    add_callback(problem.simulation, record, "record")
-    problem.simulation.run()
-    t, n = np.array(times), np.array(norms)
-    late = t > 0.5
-    return float(np.polyfit(t[late], np.log(n[late]), 1)[0])
+    return fluidity_growth_rate(problem.solver, problem.simulation, problem.mesh, after=0.5)
 
 
 def hstop() -> dict:

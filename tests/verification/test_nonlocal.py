@@ -18,15 +18,14 @@ from __future__ import annotations
 
 import math
 
-import ngsolve as ngs
 import numpy as np
 import pytest
 
 from granflow.config import load_config
 from granflow.reference.incline import bagnold
+from granflow.scenarios.fluidity import fluidity_growth_rate
 from granflow.scenarios.materials import nonlocal_law
 from granflow.scenarios.plug_flow import build_plug_flow
-from granflow.simulation.callbacks import add_callback
 
 NONLOCAL = ["material.rheology=nonlocal", "time.output_times=[]"]
 
@@ -59,20 +58,7 @@ def growth_rate(slope: float, factor: float) -> float:
         *NONLOCAL, f"mesh.size={size}", f"geometry.length={2 * size}", f"geometry.height={h}",
         "initial.plug_base=0", "initial.shear_rate=0", "initial.fluidity=1e-3",
         f"geometry.slope_deg={slope}", "time.dt=0.01", "time.t_end=1.0"]))
-    field = problem.solver.fluidity
-    assert field is not None
-    times, norms = [], []
-
-    def record(sim) -> None:
-        times.append(sim.t)
-        norms.append(math.sqrt(ngs.Integrate(field.previous**2, problem.mesh)))
-
-    add_callback(problem.simulation, record, "record")
-    problem.simulation.run()
-    t, n = np.array(times), np.array(norms)
-    late = t > 0.4
-    return float(np.polyfit(t[late], np.log(n[late]), 1)[0])
-
+    return fluidity_growth_rate(problem.solver, problem.simulation, problem.mesh, after=0.4)
 
 @pytest.mark.parametrize("slope", [22.0, 25.0, 28.0, 30.0])
 def test_the_rest_state_loses_stability_at_the_stopping_height(slope: float) -> None:

@@ -8,6 +8,10 @@ the free surface and the walls; on a column's Coulomb bed ``boundary.bed_fluidit
 (zero flux by default: the material slides and shears there, docs/model.md). With A = 0 the
 equation has no derivative in space and takes no condition.
 
+``fluidity_growth_rate`` runs a problem and measures how fast its fluidity grows or decays: the
+stopping height's test and benchmark (a small g in a layer at rest decays below h_stop and
+grows above it).
+
 Its outputs (``simulation/outputs.py``): the diagnostics columns ``fluidity_max`` and
 ``fluidity_mean`` (over the mass, area- or in r-z volume-weighted, 1/s) and the cell data
 ``fluidity`` of the VTU snapshots (the mean of g over each triangle).
@@ -15,6 +19,7 @@ Its outputs (``simulation/outputs.py``): the diagnostics columns ``fluidity_max`
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -27,6 +32,7 @@ from granflow.fem.fluidity import FluidityField
 from granflow.fem.linalg import direct_solver
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.scenarios.materials import RunMaterials, nonlocal_law
+from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 
@@ -74,3 +80,24 @@ class FluidityOutputs(Outputs):
 
     def fields(self) -> dict[str, np.ndarray]:
         return {"fluidity": self.field.cell_means()}
+
+
+def fluidity_growth_rate(solver: FlowSolver, simulation: Any, mesh: ngs.Mesh,
+                         after: float) -> float:
+    """Run ``simulation`` and return the log-slope (1/s) of the fluidity's L2 norm over the
+    accepted steps later than ``after`` (a least-squares line through log ||g||)."""
+    field = solver.fluidity
+    if field is None:
+        raise ValueError("fluidity_growth_rate needs a nonlocal law "
+                         "(material.rheology = 'nonlocal')")
+    times, norms = [], []
+
+    def record(sim: Any) -> None:
+        times.append(sim.t)
+        norms.append(math.sqrt(ngs.Integrate(field.previous**2, mesh)))
+
+    add_callback(simulation, record, "fluidity growth")
+    simulation.run()
+    t, n = np.array(times), np.array(norms)
+    late = t > after
+    return float(np.polyfit(t[late], np.log(n[late]), 1)[0])
