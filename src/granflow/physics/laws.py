@@ -19,11 +19,14 @@ from typing import Any
 @dataclass(frozen=True)
 class LawFields:
     """The fields a law may read where it is evaluated: the nonlocal fluidity g, the
-    mobilisation s of a hysteretic friction and s per triangle (engine objects or numbers)."""
+    mobilisation s of a hysteretic friction and s per triangle, and the share of layer
+    material per triangle that blends two materials (engine objects or numbers; the fields
+    coupled to the flow hand them, ``fem/coupling.py``)."""
 
     fluidity: Any = 0.0
     mobilisation: Any = 0.0
     per_triangle: Any = None
+    share: Any = None
 
 
 def _no_checks(material: Any, section: str) -> Iterator[str]:

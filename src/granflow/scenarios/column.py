@@ -132,7 +132,7 @@ def build_column(config: Config) -> ColumnCollapse:
         mobilisation.start()
     # before the runner's outputs: they read the moved layer and the advanced state
     add_callback(simulation, measures, "collapse")
-    fluidity = FluidityOutputs(current) if current.solver.fluidity is not None else None
+    fluidity = FluidityOutputs.of(current)
     for name, part in (("layer", layer), ("mobilisation", mobilisation),
                        ("fluidity", fluidity)):
         if part is not None:

@@ -16,22 +16,18 @@ from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import build_flow
 from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation_field import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import MuI, gravity_vector
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
 from granflow.reference.nonlocal_incline import steady_nonlocal_flow
 from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
-from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
-from granflow.scenarios.materials import (
-    augmentation,
-    build_rheology,
-    friction_law,
-    nonlocal_law,
-    run_materials,
-)
+from granflow.scenarios.flow_spec import Layout, flow_spec
+from granflow.scenarios.fluidity import FluidityOutputs
+from granflow.scenarios.materials import build_rheology, nonlocal_law, run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
@@ -50,8 +46,13 @@ class PlugFlow:
     solver: FlowSolver
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
-    mobilisation: MobilisationField | None = None     # a hysteretic friction's state
-    tracking: MobilisationTracking | None = None      # ... and its callback
+    tracking: MobilisationTracking | None = None      # a hysteretic friction's callback
+
+    @property
+    def mobilisation(self) -> MobilisationField | None:
+        """A hysteretic friction's state (else None)."""
+        coupling = self.solver.coupling(MobilisationCoupling)
+        return coupling.field if coupling is not None else None
 
     @property
     def steep(self) -> bool:
@@ -236,26 +237,9 @@ def build_plug_flow(config: Config) -> PlugFlow:
     geo, mat = config.geometry, config.material
     mesh = periodic_layer_mesh(geo.length, geo.height, config.mesh.size, config.mesh.cells_x)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    mobilisation = MobilisationField(mesh) if mat.friction == "hysteretic" else None
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    fluidity = fluidity_field(config, run_materials(config), mesh, periodic=True,
-                              rough=BED)  # the bed is rough
-    law = friction_law(mat, config.numerics.eps, *state,
-                       fluidity=fluidity.current if fluidity is not None else 0.0)
-    solver = FlowSolver(mesh, rheology=law,
-                        density=mat.density,
-                        body_force=force, periodic=True, dirichlet=BED,
-                        linearization=config.numerics.linearization,
-                        linear_solver=direct_solver(config.numerics.linear_solver),
-                        initial_guess=config.numerics.initial_guess,
-                        augmentation=augmentation(config),
-                        scheme=config.time.scheme,
-                        anderson_depth=config.numerics.anderson_depth,
-                        fluidity=fluidity,
-                        fluidity_coupling=config.numerics.fluidity_coupling)
-    if fluidity is not None:
-        assert isinstance(law, NonlocalFluidity)
-        fluidity.set(initial_fluidity(law, config))
+    layout = Layout(periodic=True, dirichlet=BED, rough=BED,   # the bed is rough
+                    initial_fluidity=initial_fluidity)
+    solver = build_flow(mesh, flow_spec(config, run_materials(config), layout))
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
@@ -273,12 +257,12 @@ def build_plug_flow(config: Config) -> PlugFlow:
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations, mesh_motion=motion,
                             velocity_floor=config.numerics.velocity_floor)
-    problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation,
-                       mobilisation=mobilisation)
+    problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)
     add_callback(simulation, PlugFlowOutputs(problem), "plug_flow")
+    fluidity = FluidityOutputs.of(problem)
     if fluidity is not None:
-        add_callback(simulation, FluidityOutputs(problem), "fluidity")
-    if mobilisation is not None:
+        add_callback(simulation, fluidity, "fluidity")
+    if problem.mobilisation is not None:
         problem.tracking = MobilisationTracking(run_materials(config), problem,
                                                 simulation)
         problem.tracking.start()
