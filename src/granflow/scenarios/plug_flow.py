@@ -20,14 +20,14 @@ from granflow.fem.flow_factory import build_flow
 from granflow.fem.linalg import direct_solver
 from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
-from granflow.physics import MuI, gravity_vector
+from granflow.physics import gravity_vector
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
-from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
-from granflow.reference.nonlocal_incline import steady_nonlocal_flow
-from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
+from granflow.reference.incline import SteadyProfile
+from granflow.reference.periodic_layer import Reference, layer_reference, steep
+from granflow.reference.plug1d import Plug1DSolution
 from granflow.scenarios.flow_spec import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
-from granflow.scenarios.materials import build_rheology, nonlocal_law, run_materials
+from granflow.scenarios.materials import run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
@@ -46,6 +46,7 @@ class PlugFlow:
     solver: FlowSolver
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
+    _found: Reference | str | None = None
     tracking: MobilisationTracking | None = None      # a hysteretic friction's callback
 
     @property
@@ -57,90 +58,35 @@ class PlugFlow:
     @property
     def steep(self) -> bool:
         """Slope steeper than the friction angle: no plug, the layer shears throughout."""
-        return self.config.geometry.slope_deg > self.config.material.friction_angle_deg
+        return steep(self.config)
+
+    def _layer_reference(self) -> Reference | str:
+        """The law's reference of this layer, or why none applies
+        (``reference/periodic_layer.py``), decided once."""
+        if self._found is None:
+            self._found = layer_reference(self.config)
+        return self._found
 
     def reference_note(self) -> str | None:
-        """Why no reference applies, or None. Below its friction angle a Drucker-Prager
-        layer has the 1D solution of (4.1); steeper, the steady profile it tends to
-        (reference/incline.py); a mu(I) layer has the steady profile when
-        mu_s < tan(slope) < mu_2 and nothing else (the 1D solver is for Drucker-Prager).
-        With a hysteretic friction the steady profile is the flowing law's (a layer that
-        keeps flowing tends to it: mobilised, mu = mu_flow), the 1D solver none."""
-        mat, slope = self.config.material, self.config.geometry.slope_deg
-        if mat.rheology == "nonlocal":
-            return self._nonlocal_note()
-        if mat.friction == "hysteretic" and not self.steep:
-            return ("no reference: the 1D solver of (4.1) has a constant friction, and "
-                    f"geometry.slope_deg = {slope:g} <= material.friction_angle_deg = "
-                    f"{mat.friction_angle_deg:g}")
-        if mat.rheology != "mu-i":
-            return None
-        if not self.steep:
-            return (f"no reference: the 1D solver of (4.1) is for Drucker-Prager, and a mu(I) "
-                    f"layer at geometry.slope_deg = {slope:g} <= material.friction_angle_deg "
-                    f"= {mat.friction_angle_deg:g} comes to rest")
-        if slope >= mat.mu_2_deg:
-            return (f"no reference: geometry.slope_deg = {slope:g} >= material.mu_2_deg = "
-                    f"{mat.mu_2_deg:g}, the mu(I) layer keeps accelerating")
-        return None
-
-    def _nonlocal_note(self) -> str | None:
-        """A nonlocal layer has its steady flow (reference/nonlocal_incline.py) when it is
-        thicker than its stopping height, and comes to rest otherwise."""
-        c = self.config
-        law = nonlocal_law(c.material, c.numerics.eps)
-        h_stop = law.stopping_height(c.geometry.slope_deg)
-        if law.amplitude > 0 and c.geometry.height <= h_stop:
-            return (f"no reference: the nonlocal layer of geometry.height = "
-                    f"{c.geometry.height:g} m is not thicker than its stopping height "
-                    f"{h_stop:.4g} m at geometry.slope_deg = {c.geometry.slope_deg:g}: it "
-                    "comes to rest")
-        if not self.steep:
-            return (f"no reference: geometry.slope_deg = {c.geometry.slope_deg:g} <= "
-                    f"material.friction_angle_deg = {c.material.friction_angle_deg:g}: the "
-                    "nonlocal layer comes to rest")
-        return None
+        """Why no reference applies (one line), or None."""
+        found = self._layer_reference()
+        return found if isinstance(found, str) else None
 
     @property
     def reference_kind(self) -> str | None:
         """"1d" (the transient solution of (4.1)), "steady" (the steep layer's limit)."""
-        if self.reference_note() is not None:
-            return None
-        return "steady" if self.steep else "1d"
+        found = self._layer_reference()
+        return None if isinstance(found, str) else found.kind
 
     def reference(self, t: float) -> Plug1DSolution | SteadyProfile | None:
         """The independent reference at time t (cached); None if none applies."""
-        kind = self.reference_kind
-        if kind is None:
+        found = self._layer_reference()
+        if isinstance(found, str):
             return None
-        key = -1.0 if kind == "steady" else round(t, 12)
+        key = -1.0 if found.kind == "steady" else round(t, 12)
         if key not in self._references:
-            self._references[key] = (self._steady() if kind == "steady"
-                                     else self._plug1d(t))
+            self._references[key] = found.at(t)
         return self._references[key]
-
-    def _plug1d(self, t: float) -> Plug1DSolution:
-        c = self.config
-        return solve_plug1d(
-            height=c.geometry.height, slope_deg=c.geometry.slope_deg,
-            friction_angle_deg=c.material.friction_angle_deg,
-            kinematic_viscosity=c.material.viscosity / c.material.density,
-            shear_rate=c.initial.shear_rate, plug_base=c.initial.plug_base, t_end=t,
-            gravity=c.material.gravity)
-
-    def _steady(self) -> SteadyProfile:
-        c, mat = self.config, self.config.material
-        common = {"height": c.geometry.height, "slope_deg": c.geometry.slope_deg,
-                  "density": mat.density, "gravity": mat.gravity}
-        if mat.rheology == "nonlocal":
-            return steady_nonlocal_flow(law=nonlocal_law(mat, c.numerics.eps),
-                                        **common).profile
-        if mat.rheology == "mu-i":
-            law = build_rheology(c)
-            assert isinstance(law, MuI)
-            return mu_i_profile(law=law, **common)
-        return drucker_prager_profile(friction_angle_deg=mat.friction_angle_deg,
-                                      viscosity=mat.viscosity, **common)
 
     def velocity_errors(self, t: float) -> tuple[float, float | None] | None:
         """(absolute, relative) L2 errors against the reference at t, None without one."""
