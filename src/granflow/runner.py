@@ -347,8 +347,9 @@ def fresh_factorisations(problem: Problem) -> None:
     """After a checkpoint the sparse LUs start afresh, as they do in a run resumed from it:
     PARDISO's analysis (pivot order, scaling) reads the matrix's values, so reusing one made
     on an earlier step's matrix gives round-off differences that the nonlinear iteration
-    counts then amplify (a resumed run would not repeat the run that wrote the checkpoint)."""
-    problem.solver.nonlinear.reset_factorisations()
+    counts then amplify (a resumed run would not repeat the run that wrote the checkpoint).
+    The flow's couplings solve systems of their own (a nonlocal law's fluidity): theirs too."""
+    problem.solver.reset_factorisations()
     velocity = getattr(problem.simulation.mesh_motion, "velocity_solver", None)
     if velocity is not None:
         velocity.forget_factorisation()
