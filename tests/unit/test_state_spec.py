@@ -25,7 +25,7 @@ from granflow.config import load_config
 from granflow.io.run_state import SimulationState
 from granflow.runner import build_problem, checked_state
 from granflow.scenarios.registry import Problem
-from granflow.simulation.state_spec import StateError
+from granflow.state.spec import StateError
 
 CASES = {
     "rigid": ("trapezoid-rigid", ["mesh.size=0.05", "time.t_end=0.004"]),

@@ -67,7 +67,7 @@ from granflow.fem.forms import StressTerm, Symbols, strain_rate
 from granflow.fem.nonlinear import NonlinearSolver
 from granflow.physics import DruckerPrager
 from granflow.simulation.outcomes import IterationReport
-from granflow.simulation.state_spec import Share, array, assign, may_lack, number
+from granflow.state.spec import Share, array, assign, may_lack, number
 
 CONSTRAINT_TOL = 1e-2      # relative primal and dual residuals at convergence
 PRESSURE_TOL = 1e-3        # relative change of kappa's pressure p* at convergence (floor)

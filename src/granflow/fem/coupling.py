@@ -21,18 +21,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import Any, ClassVar, Protocol
 
 import ngsolve as ngs
 
 from granflow.fem.forms import StressTerm, Term
 from granflow.fem.measure import Coordinates
 from granflow.simulation.outcomes import IterationReport
-from granflow.simulation.state_spec import Share
-
-if TYPE_CHECKING:
-    from granflow.fem.nonlinear import NonlinearSolver
-    from granflow.fem.primal_dual import DualVariable
+from granflow.state.spec import Share
 
 Carry = Callable[[ngs.GridFunction, ngs.GridFunction], None]   # (old field, new field)
 Iteration = Callable[[float, int, float], IterationReport]      # (tol, max, velocity floor)
@@ -68,7 +64,7 @@ class Flow(Protocol):
     mesh_velocity: ngs.GridFunction   # w
     coordinates: Coordinates
     rheology: Any
-    nonlinear: NonlinearSolver
+    nonlinear: Any                    # its ``fem/nonlinear.py: NonlinearSolver``
 
 
 class Coupling:
@@ -91,8 +87,9 @@ class Coupling:
         source of the continuity row, or a density of its own in the inertia."""
         return ()
 
-    def corrections(self, flow: Flow) -> tuple[DualVariable, ...]:
-        """A correction of the fixed-point iteration (3.2) (``fem/primal_dual.py``)."""
+    def corrections(self, flow: Flow) -> tuple[Any, ...]:
+        """A correction of the fixed-point iteration (3.2) (the dual variable of
+        ``fem/primal_dual.py``, which ``fem/nonlinear.py`` steps)."""
         return ()
 
     def bind(self, flow: Flow) -> None:

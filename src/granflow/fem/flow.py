@@ -8,24 +8,21 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, TypeVar
+from typing import TypeVar
 
 import ngsolve as ngs
 
 from granflow.fem.coupling import Carriers, Coupling, Iteration
 from granflow.fem.engine import NGSOLVE_OPS
+from granflow.fem.flow_spec import Density, SolverChoice
 from granflow.fem.forms import Term, frobenius
 from granflow.fem.measure import Coordinates
 from granflow.fem.nonlinear import NonlinearSolver
 from granflow.fem.time_scheme import TimeScheme
 from granflow.physics import Rheology
 from granflow.simulation.outcomes import IterationReport
-from granflow.simulation.state_spec import FLAG, Share, may_lack
+from granflow.state.spec import FLAG, Share, may_lack
 
-if TYPE_CHECKING:   # the factory imports this module
-    from granflow.fem.flow_factory import SolverChoice
-
-Density = float | ngs.CoefficientFunction   # kg/m^3: one material, or blended (two)
 C = TypeVar("C", bound=Coupling)
 
 

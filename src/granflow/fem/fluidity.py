@@ -32,7 +32,7 @@ from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.sampling import cell_means, vertex_samples
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.physics.regions import blend
-from granflow.simulation.state_spec import Share, array, assign, may_lack
+from granflow.state.spec import Share, array, assign, may_lack
 
 # The reaction, time and source terms on 6 interior points (order 4). I = gamma_dot d /
 # sqrt(P / rho_s) is singular where P -> 0: NGSolve's order-2 rule, which it picks for these

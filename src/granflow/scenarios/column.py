@@ -35,8 +35,8 @@ from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import Share, instance, record
 from granflow.simulation.timestep import step_policy
+from granflow.state.spec import Share, instance, record
 
 MESH = instance(ngs.Mesh, "a mesh", lambda mesh: {"cells": mesh.ne, "vertices": mesh.nv})
 

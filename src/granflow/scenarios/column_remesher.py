@@ -33,7 +33,7 @@ from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.column_sizes import refit_due, refitted, remesh_sizes
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     COUNT,
     FLAG,
     REAL,

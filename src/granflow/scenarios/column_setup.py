@@ -2,7 +2,7 @@
 walls, the mass and the meshed erodible layer, ``geometry/scene.py``; a bed profile's file
 is read here and nowhere else), plane or r-z coordinates (``fem/measure.py``), the run's
 materials (an erodible layer's own, or none: ``scenarios/materials.py``) and how the layer
-is meshed, and the flow solver's frozen parts (``scenarios/flow_spec.py``: its Coulomb walls,
+is meshed, and the flow solver's frozen parts (``scenarios/flow_config.py``: its Coulomb walls,
 the axis, the surface). Every part of a collapse (the discretisation, the remesher, the size
 field, the measures, the layer tracking, the figures) reads these from one frozen ``ColumnSetup``,
 which is the one home of three questions: is there an erodible layer (``erodible``), is the
@@ -19,7 +19,7 @@ import numpy as np
 from granflow.ale.remesh import EdgeSize
 from granflow.config import Config
 from granflow.config.kinds import erodible_layer
-from granflow.fem.flow_factory import FlowSpec
+from granflow.fem.flow_spec import FlowSpec
 from granflow.fem.forms import FrictionWall
 from granflow.fem.measure import Coordinates, coordinates_of
 from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
@@ -27,7 +27,7 @@ from granflow.geometry.profile import BedProfile
 from granflow.geometry.scene import Scene, build_scene
 from granflow.geometry.stretch import LayerStretch
 from granflow.physics import CoulombFriction
-from granflow.scenarios.flow_spec import Layout, flow_spec
+from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.materials import RunMaterials, run_materials
 
 

@@ -25,7 +25,7 @@ from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.reference.incline import SteadyProfile
 from granflow.reference.periodic_layer import Reference, layer_reference, steep
 from granflow.reference.plug1d import Plug1DSolution
-from granflow.scenarios.flow_spec import Layout, flow_spec
+from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
@@ -33,8 +33,8 @@ from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import Share, array, assign, record
 from granflow.simulation.timestep import step_policy
+from granflow.state.spec import Share, array, assign, record
 
 
 @dataclass

@@ -26,6 +26,7 @@ from typing import Any
 import ngsolve as ngs
 
 from granflow.config import Config
+from granflow.diagnostics.flow_fields import FlowSnapshot
 from granflow.diagnostics.state import state_measures
 from granflow.fem.linalg import solver_in_use
 from granflow.fem.sampling import cell_means
@@ -48,7 +49,7 @@ from granflow.simulation.callbacks import (
 )
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     TIME,
     Dims,
     Share,
@@ -80,7 +81,7 @@ def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = Fa
 
 def checked_state(state: SimulationState, problem: Problem | None) -> SimulationState:
     """``state`` with every member of its three shares checked against what its parts
-    declare (``simulation/state_spec.py``) and only those kept: the one check of a
+    declare (``state/spec.py``) and only those kept: the one check of a
     checkpoint's content before any part reads it; ``StateError`` (one line) names the
     first member that is not what its part declared. Without a problem (its build failed:
     the run fails, nothing reads the problem's share) that share is left as it is."""
@@ -216,7 +217,8 @@ class _Run:
         saved = resume.outputs if resume is not None else None
         callbacks = sim.callbacks
         self.diagnostics = DiagnosticsLog(run_dir, saved, columns=callbacks.columns())
-        self.fields = FieldSnapshots(run_dir, problem, saved, cell_data=callbacks.fields)
+        self.fields = FieldSnapshots(run_dir, FlowSnapshot(problem), saved,
+                                     cell_data=callbacks.fields)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)
         if resume is not None:   # those still ahead (the configuration may have changed them)

@@ -24,7 +24,7 @@ from granflow.config.messages import fmt_value
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, read_checkpoint
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
-from granflow.simulation.state_spec import StateError
+from granflow.state.spec import StateError
 
 FINISHED = ("completed", "stopped")
 # keys whose change the step policy must follow (it is then rebuilt from the configuration)
@@ -43,7 +43,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                log: Callable[[str], None] | None,
                check_solver: Callable[[Config], None]) -> Path:
     """Continue the run in ``path`` (module docstring); returns its folder."""
-    from granflow.runner import build_problem, checked_state, run_simulation
+    from granflow.app.run import build_problem, checked_state, run_simulation
 
     root = Path(path)
     if not RunDir.is_run_dir(root):

@@ -78,15 +78,20 @@ class SweepRun:
     varied: dict[str, Any]
 
 
+def studies_folder() -> Any:
+    """The built-in sweep files' folder (``granflow/app/studies/``)."""
+    return resources.files("granflow.app").joinpath("studies")
+
+
 def builtin_studies() -> list[str]:
-    folder = resources.files("granflow.studies")
+    folder = studies_folder()
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
 def load_sweep(source: str) -> Sweep:
-    """A sweep from a TOML file or a built-in study name (``granflow/studies/NAME.toml``)."""
+    """A sweep from a TOML file or a built-in study name (``granflow/app/studies/NAME.toml``)."""
     if source in builtin_studies():
-        text = resources.files("granflow.studies").joinpath(f"{source}.toml").read_text()
+        text = studies_folder().joinpath(f"{source}.toml").read_text()
         data, name = tomllib.loads(text), source
     else:
         path = Path(source)
@@ -153,8 +158,8 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
         config = load_config(run.base, run.overrides)
     except ConfigError as err:
         return row | {"status": "failed", "message": f"invalid configuration: {err}"}
-    from granflow.api import resume
-    from granflow.api import run as run_case
+    from granflow.app.api import resume
+    from granflow.app.api import run as run_case
     from granflow.io.checkpoint import CheckpointError
 
     try:

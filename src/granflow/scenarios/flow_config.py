@@ -19,7 +19,7 @@ from typing import Any
 from granflow.config import Config
 from granflow.fem.augmented_lagrangian import AugmentedLagrangianSpec
 from granflow.fem.coupling import CouplingSpec
-from granflow.fem.flow_factory import Discretisation, FlowSpec, SolverChoice, Terms
+from granflow.fem.flow_spec import Discretisation, FlowSpec, SolverChoice, Terms
 from granflow.fem.forms import FrictionWall
 from granflow.fem.linalg import direct_solver
 from granflow.fem.material_share import MaterialShareSpec
