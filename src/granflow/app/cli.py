@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
@@ -41,11 +40,11 @@ from granflow.app.converge import (
 from granflow.app.sweep import SweepError
 from granflow.config import (
     ConfigError,
-    ConfigNote,
     builtin_scenarios,
     config_to_toml,
     load_config,
 )
+from granflow.config.messages import notes_as_lines
 from granflow.config.schema import FIGURE_FORMATS
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
@@ -57,9 +56,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``granflow`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("default", ConfigNote)   # each note once
-            warnings.showwarning = _note
+        with notes_as_lines():            # each note once, one line
             return args.command(args)
     except (ConfigError, RunDirError, CheckpointError, SweepError, ConvergeError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
@@ -71,15 +68,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("granflow: interrupted", file=sys.stderr)
         return 130
-
-
-def _note(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-          file: object = None, line: str | None = None) -> None:
-    """A configuration note (``ConfigNote``) as one line; other warnings as Python shows them."""
-    if issubclass(category, ConfigNote):
-        print(f"granflow: note: {message}", file=sys.stderr)
-    else:
-        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
 class _Parser(argparse.ArgumentParser):
@@ -370,6 +358,11 @@ def _report(summary: dict[str, Any], run_dir: RunDir, printed: bool = False) -> 
     it did not finish, and the exit code."""
     from granflow.io.report import final_lines
 
+    if not summary:       # what a run writes last could not be read back
+        print(f"granflow: error: '{run_dir.root / 'summary.json'}' is missing or cannot be "
+              "read (not JSON, or larger than 16 MB); the run's other files are beside it",
+              file=sys.stderr)
+        return 1
     status = summary.get("status", "failed")
     if not printed:
         print("\n".join(final_lines(summary, run_dir.root)))

@@ -37,7 +37,7 @@ from granflow.io.diagnostics import DiagnosticsLog
 from granflow.io.fields import FieldSnapshots
 from granflow.io.frames import INTERVAL_S as ANIMATION_INTERVAL_S
 from granflow.io.frames import AnimationFrames
-from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.run_dir import SUMMARY_LIST_LIMIT, RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 from granflow.scenarios.registry import Problem, build_problem, draw_figures
 from granflow.simulation.callbacks import (
@@ -67,7 +67,7 @@ EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME
 # the outputs' share of a checkpoint (``_Run.checkpoint``): the runner's and its files'
 OUTPUTS_SHARE: Share = {
     "volume0": may_lack(or_none(number(0.0, above=True))),
-    **{f"{name}_times": may_lack(list_of(TIME)) for name in EVENTS},
+    **{f"{name}_times": may_lack(list_of(TIME, most=SUMMARY_LIST_LIMIT)) for name in EVENTS},
     "pending_times": may_lack(list_of(TIME)), "animation_next": may_lack(or_none(TIME)),
     **DiagnosticsLog.share, **FieldSnapshots.share, **AnimationFrames.share}
 
@@ -148,7 +148,8 @@ class RunRecord(Outputs):
     the remeshes and the depositions, which the figures mark: each changes the kinetic
     energy at once), the output times after the stop, the last state's profiles, the
     volume's conservation and the mesh's size. Its state is in the outputs' share of the
-    checkpoint (``OUTPUTS_SHARE``)."""
+    checkpoint (``OUTPUTS_SHARE``). It notes the first ``SUMMARY_LIST_LIMIT`` events of
+    each kind (what summary.json's reader reads; the remeshes' count is the remesher's)."""
 
     def __init__(self, problem: Problem, saved: dict[str, Any] | None, resumed: bool,
                  at_times: AtTimes) -> None:
@@ -163,8 +164,8 @@ class RunRecord(Outputs):
 
     def __call__(self, sim: Simulation) -> None:
         counts = _event_counts(self.problem)
-        for name, count in counts.items():
-            if count > self.seen[name]:
+        for name, count in counts.items():   # the first SUMMARY_LIST_LIMIT of each kind
+            if count > self.seen[name] and len(self.events[name]) < SUMMARY_LIST_LIMIT:
                 # a remesh comes before the step's move, a landing on the bed ends it
                 self.events[name].append(sim.t - sim.dt if name == "remesh" else sim.t)
         self.seen = counts

@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import ConfigError, load_config, read_toml_file
+from granflow.config.messages import notes_as_lines
 from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text, prepare_folder
 
 FINISHED = ("completed", "stopped")
@@ -152,6 +153,11 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
     Executes in a Dask worker process. Never raises: an invalid combination or a failure
     is a row with status "failed" and the message.
     """
+    with notes_as_lines():     # the worker's notes as the command line prints them
+        return _run_one(run, root)
+
+
+def _run_one(run: SweepRun, root: str) -> dict[str, Any]:
     folder = Path(root) / run.name
     row: dict[str, Any] = {"run": run.name, **run.varied}
     try:

@@ -75,6 +75,10 @@ FLOORS = {
                                     "at rest (1 mm/s)"),
     "surface_tension.delta": Floor(1.0, "one surface node: any smaller extent acts on the "
                                         "critical node alone, as 1 does"),
+    "gate.tau": Floor(1e-3, "a millisecond: the gate is at full speed within the first steps "
+                            "of a collapse (glass beads: 0.13 s)"),
+    "numerics.al_r": Floor(1e-3, "the smallest r the augmented Lagrangian balances it to "
+                                 "(Pa s)"),
 }
 FLOORS["layer.grain_diameter"] = FLOORS["material.grain_diameter"]
 
@@ -235,7 +239,7 @@ class Gate(_Section):
     enabled: bool
     speed_law: Literal["constant", "exponential"]  # U, or U (1 - exp(-t / tau))
     speed: Annotated[float, Field(ge=floor("gate.speed"), le=50)]  # U or U_inf (m/s)
-    tau: Annotated[float, Field(gt=0, le=100)]  # s, of the exponential law
+    tau: Annotated[float, Field(ge=floor("gate.tau"), le=100)]  # s, of the exponential law
     friction_deg: Angle  # Coulomb friction of the gate, mu_g = tan(angle)
 
 
@@ -298,7 +302,8 @@ class Numerics(_Section):
     initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
     anderson_depth: Annotated[int, Field(ge=0, le=10)]  # Anderson mixing of (3.2); 0 = off
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
-    al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
+    al_r: Literal["auto"] | Annotated[float, Field(ge=floor("numerics.al_r"),
+                                                   le=1e12)]  # augmentation r (Pa s)
     fluidity_coupling: Literal["lagged", "iterated"]  # nonlocal: g per step or per iterate
 
     @property

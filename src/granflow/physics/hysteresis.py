@@ -71,7 +71,8 @@ class Relaxation:
         sheared = self.sheared(shear_rate)
         target = sheared.astype(float)
         tau = np.where(sheared, self.mobilisation_time, self.rest_time)
-        return target + (np.asarray(s, dtype=float) - target) * np.exp(-dt / tau)
+        with np.errstate(over="ignore", under="ignore"):   # dt >> tau: exp(-inf) = 0
+            return target + (np.asarray(s, dtype=float) - target) * np.exp(-dt / tau)
 
 
 def relaxed(s0: float, target: float, tau: float, t: float) -> float:
