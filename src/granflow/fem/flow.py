@@ -69,10 +69,9 @@ class FlowSolver:
         self._history_kept: dict[str, object] | None = None   # set aside by a restart
         for coupling in self.couplings:
             coupling.bind(self)
-        iterating = [c for c in self.couplings if c.iterates]
         # a field solved with every iterate: its relative change joins the convergence test
-        self.nonlinear.coupled = (lambda: max(c.iterate() for c in iterating)) if iterating \
-            else None
+        self._iterating = tuple(c for c in self.couplings if c.iterates)
+        self.nonlinear.coupled = self._coupled_change if self._iterating else None
         default: Iteration = {"newton": nonlinear.solve_newton,
                               "hybrid": nonlinear.solve_hybrid}.get(self.linearization,
                                                                      nonlinear.solve_picard)
@@ -82,6 +81,10 @@ class FlowSolver:
         # Newton and the hybrid start from the extrapolation unless a coupling iterates
         # the step its own way
         self._own_iteration = self.iteration is not default
+
+    def _coupled_change(self) -> float:
+        """Each iterating coupling solved with the current iterate: the largest change."""
+        return max(c.iterate() for c in self._iterating)
 
     def coupling(self, kind: type[C]) -> C | None:
         """The coupling of this kind, or None when the run has none."""
