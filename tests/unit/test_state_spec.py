@@ -1,5 +1,5 @@
 """Every member of a checkpoint's state is checked before any part reads it: each part
-declares its share (``simulation/state_spec.py``) and ``runner.checked_state`` checks the
+declares its share (``state/spec.py``) and ``runner.checked_state`` checks the
 three shares in one place.
 
 Generated from real states (a rigid collapse; an erodible one with a layer of its own
