@@ -60,9 +60,16 @@ def revolved_volume_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray
 class Section:
     """Plane strain (``axisymmetric=False``): amounts are areas of the section, per metre
     of width; axisymmetric: volumes of the solid of revolution (what an incompressible
-    axisymmetric flow conserves, not the section's area)."""
+    axisymmetric flow conserves, not the section's area); ``dimension = 3``: the body
+    itself, volumes in m^3 (the section's polygon amounts below are for 2D only)."""
 
     axisymmetric: bool = False
+    dimension: int = 2
+
+    @property
+    def volumetric(self) -> bool:
+        """Whether amounts are volumes (of revolution, or of a 3D body), not areas."""
+        return self.axisymmetric or self.dimension == 3
 
     # --- names and units of the outputs ------------------------------------------------
     @property
@@ -73,22 +80,22 @@ class Section:
     @property
     def amount(self) -> str:
         """What is conserved and reported: "volume" (of revolution) or "area"."""
-        return "volume" if self.axisymmetric else "area"
+        return "volume" if self.volumetric else "area"
 
     @property
     def unit(self) -> str:
         """The amount's unit in summary.json member names: m3, or m2 per metre."""
-        return "m3" if self.axisymmetric else "m2"
+        return "m3" if self.volumetric else "m2"
 
     @property
     def amount_label(self) -> str:
         """The amount's unit for an axis label."""
-        return "m^3" if self.axisymmetric else "m^2 per m"
+        return "m^3" if self.volumetric else "m^2 per m"
 
     @property
     def energy_unit(self) -> str:
         """Kinetic energy of the whole body (J) or per metre of width (J/m)."""
-        return "J" if self.axisymmetric else "J/m"
+        return "J" if self.volumetric else "J/m"
 
     @property
     def note(self) -> str:
