@@ -14,6 +14,8 @@ def reference_field(mesh: ngs.Mesh, z: np.ndarray, u: np.ndarray) -> ngs.Coeffic
     """(U_ref(Z), 0) as a coefficient function: the 1D profile extended in x (section 4);
     in 3D (U_ref(Z), 0, 0), extended in x and y."""
     xyz = mesh.ngmesh.Coordinates()
+    if len(xyz) == 0:     # an MPI rank that holds no element (rank 0 in NGSolve's layout)
+        xyz = np.array([[0.0] * mesh.dim, [1.0] * mesh.dim])
     low, high = xyz.min(axis=0)[:-1], xyz.max(axis=0)[:-1]     # the box across Z
     across = (1,) * (mesh.dim - 1)
     shape = (len(z), *(2,) * (mesh.dim - 1))     # the voxel table's axes: Z, then Y, X

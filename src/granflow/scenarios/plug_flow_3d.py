@@ -1,7 +1,9 @@
 """The periodic layer of configuration (a) in three dimensions: a box periodic along the
 slope (X) and across it (Y), the rough bed at Z = 0 and the free surface at Z = height
 (paper section 4). The flow is the 2D layer's, uniform in X and Y: its velocity against
-the 1D solver of (4.1) is the first verification of the 3D discretisation."""
+the 1D solver of (4.1) is the first verification of the 3D discretisation. Under
+``mpiexec -n N`` rank 0 meshes and NGSolve distributes the mesh (``fem/mpi.py``); the
+Taylor-Hood system is then gathered and factorised on rank 0."""
 
 from __future__ import annotations
 
@@ -9,8 +11,9 @@ import ngsolve as ngs
 
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
-from granflow.fem.linalg import direct_solver
+from granflow.fem.linalg import MASTER_INVERSE, direct_solver, distributed
 from granflow.fem.measure import SPACE
+from granflow.fem.mpi import distribute
 from granflow.geometry.labels import BED
 from granflow.geometry.mesh3d import periodic_box_mesh
 from granflow.physics import gravity_vector_3d
@@ -32,12 +35,15 @@ def build_plug_flow_3d(config: Config, width: float | None = None) -> PlugFlow:
     if config.numerics.method != "regularized" or config.numerics.mesh_velocity != "fixed":
         raise ValueError("the 3D layer runs the regularised law (2.13) on a fixed mesh: "
                          "numerics.method = 'regularized', numerics.mesh_velocity = 'fixed'")
-    mesh = periodic_box_mesh(geo.length, width or geo.length, geo.height, config.mesh.size)
+    mesh = distribute(lambda: periodic_box_mesh(geo.length, width or geo.length, geo.height,
+                                                config.mesh.size))
+    solver_type = (MASTER_INVERSE if distributed(mesh)
+                   else direct_solver(config.numerics.linear_solver))
     force = gravity_vector_3d(mat.gravity, geo.slope_deg)
     solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
                         body_force=force, periodic=True, dirichlet=BED,
                         linearization=config.numerics.linearization,
-                        linear_solver=direct_solver(config.numerics.linear_solver),
+                        linear_solver=solver_type,
                         initial_guess=config.numerics.initial_guess,
                         scheme=config.time.scheme, coordinates=SPACE,
                         anderson_depth=config.numerics.anderson_depth)
