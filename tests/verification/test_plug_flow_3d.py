@@ -50,6 +50,6 @@ def test_3d_plug_flow_stays_along_the_slope(layer) -> None:
 
 
 def test_3d_layer_refuses_an_unverified_law() -> None:
-    config = load_config("plug-flow", ["material.rheology=nonlocal"])
+    config = load_config("plug-flow", ["material.rheology=mu-i"])
     with pytest.raises(ValueError, match="not verified in 3D"):
         build_plug_flow_3d(config)

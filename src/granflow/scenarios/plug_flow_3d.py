@@ -22,7 +22,7 @@ from granflow.scenarios.plug_flow import PlugFlow
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.timestep import step_policy
 
-LAWS_3D = ("drucker-prager", "mu-i")   # the laws verified in 3D so far
+LAWS_3D = ("drucker-prager",)   # the laws verified in 3D so far (mu(I) next)
 
 
 def build_plug_flow_3d(config: Config, width: float | None = None) -> PlugFlow:
