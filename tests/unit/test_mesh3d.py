@@ -2,8 +2,10 @@
 and the periodic box of the 3D layer."""
 
 import ngsolve as ngs
+import numpy as np
 import pytest
 
+from granflow.fem.measure import PLANE, SPACE
 from granflow.geometry.domains import column
 from granflow.geometry.mesh3d import channel_column_mesh, periodic_box_mesh
 
@@ -47,3 +49,17 @@ def test_periodic_box_is_periodic_along_and_across() -> None:
     space = ngs.Periodic(ngs.H1(mesh, order=1))
     # free vertices of one horizontal layer: 2 x 2 once identified (3 x 3 unperiodic)
     assert sum(space.FreeDofs()) == 4 * (round(6.0 / 0.25) + 1)
+
+
+def test_3d_coordinates_measure_the_body_in_cubic_metres() -> None:
+    """SPACE integrates over the body (m^3), names its amounts as volumes and refuses the
+    section's polygon amounts, which would be areas."""
+    polygon = column("rectangle", 0.2, 0.14)
+    mesh = channel_column_mesh(polygon, W, 0.05)
+    assert SPACE.integrate(ngs.CF(1.0), mesh) == pytest.approx(polygon.area * W, rel=1e-12)
+    assert (SPACE.amount, SPACE.unit, SPACE.energy_unit) == ("volume", "m3", "J")
+    assert (PLANE.amount, PLANE.unit, PLANE.energy_unit) == ("area", "m2", "J/m")
+    assert SPACE.integrate(SPACE.bed_normal, mesh) == pytest.approx(
+        polygon.area * W * 0.07, rel=1e-12)                # the mean height is h0 / 2
+    with pytest.raises(ValueError, match="3D body"):
+        SPACE.polygon(np.zeros((3, 2)), np.array([[0, 1], [1, 2], [2, 0]]))

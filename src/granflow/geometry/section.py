@@ -61,7 +61,7 @@ class Section:
     """Plane strain (``axisymmetric=False``): amounts are areas of the section, per metre
     of width; axisymmetric: volumes of the solid of revolution (what an incompressible
     axisymmetric flow conserves, not the section's area); ``dimension = 3``: the body
-    itself, volumes in m^3 (the section's polygon amounts below are for 2D only)."""
+    itself, volumes in m^3 (the section's amounts below refuse it)."""
 
     axisymmetric: bool = False
     dimension: int = 2
@@ -103,9 +103,15 @@ class Section:
         return " (axisymmetric: r from the axis)" if self.axisymmetric else ""
 
     # --- amounts -------------------------------------------------------------------------
+    def _section_only(self) -> None:
+        """The amounts below measure a 2D section; a 3D body's are its tetrahedra's."""
+        if self.dimension != 2:
+            raise ValueError("a section's amount asked of a 3D body (dimension = 3)")
+
     def triangles(self, areas: np.ndarray, centroid_r: np.ndarray) -> float:
         """The amount of straight-edged triangles of the given areas: their area, or
         2 pi sum(area x centroid radius), exact for triangles (Pappus)."""
+        self._section_only()
         if not self.axisymmetric:
             return float(np.sum(areas))
         return float(TWO_PI * np.sum(areas * centroid_r))
@@ -113,6 +119,7 @@ class Section:
     def region(self, shape: Any) -> float:
         """The amount of a region of the section (a shapely geometry): its area, or
         2 pi A r_centroid (Pappus)."""
+        self._section_only()
         if not self.axisymmetric:
             return float(shape.area)
         return 0.0 if shape.is_empty else TWO_PI * shape.area * shape.centroid.x
@@ -120,16 +127,19 @@ class Section:
     def weights(self, r: np.ndarray, area: float) -> np.ndarray:
         """The amount each point at distance ``r`` from the axis stands for when it
         represents ``area`` of the section: the area, or the ring 2 pi r area."""
+        self._section_only()
         if not self.axisymmetric:
             return np.full(len(r), area)
         return TWO_PI * r * area
 
     def polygon(self, xy: np.ndarray, segments: np.ndarray) -> float:
         """The amount enclosed by the oriented boundary segments."""
+        self._section_only()
         return revolved_volume(xy, segments) if self.axisymmetric else polygon_area(xy, segments)
 
     def polygon_gradient(self, xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
         """d(``polygon``)/d(vertex position)."""
+        self._section_only()
         if self.axisymmetric:
             return revolved_volume_gradient(xy, segments)
         return area_gradient(xy, segments)
