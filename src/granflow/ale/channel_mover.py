@@ -69,12 +69,14 @@ class ChannelMover:
     check (no inverted tetrahedron), its undo, and deposition after it."""
 
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.GridFunction, planes: ChannelPlanes,
-                 penalty: float = 1e8) -> None:
+                 penalty: float = 1e8, conserve_volume: bool = False) -> None:
         self.mesh, self.velocity, self.planes = mesh, velocity, planes
         self.target = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
         self._source = ngs.GridFunction(velocity.space)
         self._w = ElasticMeshVelocity(mesh, self._source, self.target, penalty)
         self._saved: np.ndarray | None = None
+        self.conserve_volume = conserve_volume
+        self.initial_volume = self.volume()
 
     def vertex_velocity(self) -> np.ndarray:
         """w at the vertices (3.6), held on the bounding planes."""
@@ -91,6 +93,8 @@ class ChannelMover:
         move_mesh(self.mesh, dt * w)
         xyz = self.mesh.ngmesh.Coordinates()
         xyz[:, 2] = np.maximum(xyz[:, 2], 0.0)        # deposition: nothing goes below the bed
+        if self.conserve_volume:
+            restore_volume(self.mesh, self.initial_volume, self.planes)
         if np.any(signed_volumes(self.mesh) <= 0):
             self.undo()
             return MoveFailure.INVERTED
@@ -103,6 +107,38 @@ class ChannelMover:
 
     def volume(self) -> float:
         return float(np.sum(signed_volumes(self.mesh)))
+
+
+def surface_volume_gradient(mesh: ngs.Mesh) -> np.ndarray:
+    """d(volume)/d(vertex position) from the boundary triangles (divergence theorem: V =
+    sum over the outward triangles of a . (b x c) / 6); zero at interior vertices."""
+    xyz = mesh.ngmesh.Coordinates()
+    tri, _ = surface_triangles(mesh)
+    a, b, c = (xyz[tri[:, k]] for k in range(3))
+    sign = 1.0 if np.einsum("ij,ij->i", a, np.cross(b, c)).sum() > 0 else -1.0  # outward
+    grad = np.zeros_like(xyz)
+    for k, (p, q) in enumerate(((b, c), (c, a), (a, b))):
+        np.add.at(grad, tri[:, k], sign * np.cross(p, q) / 6.0)
+    return grad
+
+
+def restore_volume(mesh: ngs.Mesh, volume: float, planes: ChannelPlanes,
+                   passes: int = 2) -> None:
+    """Move the free surface's vertices along the volume's gradient (held on the bounding
+    planes) until the body has ``volume`` again: the 3D form of the 2D mover's correction
+    of the explicit move's volume drift. Each pass is a Newton step on V(X + lambda g)."""
+    tri, labels = surface_triangles(mesh)
+    free = np.zeros(mesh.nv, dtype=bool)
+    free[np.unique(tri[labels == SURFACE])] = True
+    for _ in range(passes):
+        xyz = mesh.ngmesh.Coordinates()
+        grad = surface_volume_gradient(mesh)
+        grad[~free] = 0.0
+        grad[planes.held(xyz)] = 0.0
+        norm2 = float(np.sum(grad * grad))
+        if norm2 == 0.0:
+            return
+        xyz += (volume - float(np.sum(signed_volumes(mesh)))) / norm2 * grad
 
 
 def deposit(mesh: ngs.Mesh, tol: float = ON_PLANE) -> int:
