@@ -21,9 +21,15 @@ from granflow.geometry.mesh3d import channel_column_mesh
 W, RATE = 0.1, 5.0      # channel width (m), strain rate of the test flow (1/s)
 
 
-@pytest.fixture
-def mesh() -> ngs.Mesh:
+@pytest.fixture(scope="module")
+def meshed() -> ngs.Mesh:
     return channel_column_mesh(column("rectangle", 0.2, 0.14), W, 0.03, half=True)
+
+
+@pytest.fixture
+def mesh(meshed: ngs.Mesh) -> ngs.Mesh:
+    """A copy each test may move (Netgen meshes once per module)."""
+    return ngs.Mesh(meshed.ngmesh.Copy())
 
 
 def strained(mesh: ngs.Mesh, dt: float, steps: int) -> ChannelMover:
