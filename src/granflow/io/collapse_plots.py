@@ -136,9 +136,9 @@ def _free_surfaces(view: View) -> None:
     for t in view.times:
         prof = profiles.profile_at(view.run_dir.root, "free_surface", t)
         ax.plot(prof["x"], prof["z"], color=view.colours[t], label=view.label(t))
-    if view.final is not None:
+    if view.final is not None:      # dashed: an output time at rest shows through it
         ax.plot(view.final.surface["x"], view.final.surface["z"], color="k", lw=1.3,
-                label=view.final.label)
+                ls=(0, (4, 2)), label=view.final.label)
     ax.set(xlabel=f"{view.x} (m)", ylabel="z (m)", title=f"Free surface{view.bed}",
            aspect=view.aspect(ax.dataLim.intervalx[1]))
     _legend(ax)
