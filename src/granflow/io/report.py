@@ -67,7 +67,9 @@ def final_lines(summary: Mapping[str, Any], root: Path) -> list[str]:
         rows.append(("height at the wall", f"{wall:.4f} m"))
     error = _number(summary.get("velocity_relative_error_l2"))
     if error is not None:
-        rows.append(("velocity error", f"{error:.3g} (relative L2, against the 1D solution)"))
+        against = ("the steady profile" if summary.get("reference") == "steady"
+                   else "the 1D solution")
+        rows.append(("velocity error", f"{error:.3g} (relative L2, against {against})"))
     volume = _number(summary.get("volume_relative_error"))
     if volume is not None:
         rows.append(("volume error", f"{volume:.2g}{_correction(summary)}"))
