@@ -78,6 +78,7 @@ def main(argv: list[str]) -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     fig.savefig(OUT / "interface_resolution.png", dpi=130)
     out = {"t": args.t, "mesh_size_m": problem.config.mesh.size, "stations": len(stations),
+           "station_spacing_m": float(stations[1] - stations[0]),
            "triangles": int(mesh.ne)}
     for name, contour in levels.items():
         distance = np.array([lowest_crossing(contour.allsegs[0], x) for x in stations]) - field_z

@@ -38,6 +38,7 @@ CYLINDER = "aspect_ratio_cylinder/aspect_ratio.json"
 FIRST_RUNS = "collapse/paper.json"
 HYSTERESIS = "hysteresis/hysteresis.json"
 REPRODUCIBILITY = "reproducibility/reproducibility.json"
+INTERFACE = "interface_resolution/interface_resolution.json"
 
 
 def _path_run(setting: str, key: str, member: str | None = None) -> Callable[[Any], float]:
@@ -207,6 +208,17 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      "threshold.slow_q99_max", ".3f", 1),
     ("docs/model.md", "shear at most at {} 1/s", HYSTERESIS, "threshold.slow_q99_max",
      ".3f", 1),
+    # --- the static/flowing interface's resolution (benchmarks/interface_resolution.py)
+    ("docs/outputs.md", "(cells of {} cm) the contour", INTERFACE, "mesh_size_m", ".1f", 100),
+    ("docs/outputs.md", "draws lies {} mm on average", INTERFACE,
+     "vertex_speed.mean_distance_m", ".1f", 1000),
+    ("docs/outputs.md", "on average and {} mm at most", INTERFACE,
+     "vertex_speed.max_distance_m", ".1f", 1000),
+    ("docs/outputs.md", "which jumps by up to {} mm between", INTERFACE,
+     "field_level_largest_jump_m", ".1f", 1000),
+    ("docs/outputs.md", "between verticals {} mm apart", INTERFACE, "station_spacing_m",
+     ".1f", 1000),
+    ("docs/outputs.md", "default collapse at t = {} s (cells", INTERFACE, "t", ".1f", 1),
     ("docs/performance.md", "no output times: steps, iterations | 955, {} |", REPRODUCIBILITY,
      _path_run("default", "default_collapse", "iterations"), ",d", 1),
     ("docs/performance.md", "| 955, 1,756 | 955, {} |", REPRODUCIBILITY,
