@@ -134,3 +134,14 @@ def test_a_layer_run_with_the_columns_angle_gets_a_note() -> None:
                                         r"layer\.friction_angle_deg = 25\.5.*layer\.preset"):
         load_config("trapezoid-erodible", ["material.preset=glass-beads",
                                            "layer.rheology=mu-i"])
+
+
+@pytest.mark.filterwarnings("ignore::granflow.config.ConfigNote")
+def test_mu_2_is_a_key_of_the_nonlocal_law_also_over_a_layer() -> None:
+    """The nonlocal law holds material at rest up to mu_2 = tan mu_2_deg: the key has an
+    effect (it was refused as a parameter of mu(I) alone over an erodible layer)."""
+    config = load_config("trapezoid-erodible", ["material.rheology=nonlocal",
+                                                "material.mu_2_deg=30"])
+    assert config.material.mu_2_deg == 30.0
+    with pytest.raises(ConfigError, match=r"material\.i0 = 0\.3 has no effect here"):
+        load_config("trapezoid-erodible", ["material.rheology=nonlocal", "material.i0=0.3"])
