@@ -201,12 +201,14 @@ class PrimalDualSpec:
 
 class PrimalDualCoupling(Coupling):
     """The dual variable lambda beside the fixed-point iteration: built for the plane
-    Drucker-Prager law; with another law (mu(I)) or in axisymmetry "primal-dual" is the
-    plain iteration (3.2) (docs/parameters.md). It holds no state across steps."""
+    Drucker-Prager law (2 x 2 tensors); with another law (mu(I)), in axisymmetry or in 3D
+    "primal-dual" is the plain iteration (3.2) (docs/parameters.md). It holds no state
+    across steps."""
 
     name = "primal-dual"
 
     def corrections(self, flow: Flow) -> tuple[DualVariable, ...]:
-        if not drucker_prager(flow.rheology) or flow.coordinates.axisymmetric:
+        plane = flow.coordinates.dimension == 2 and not flow.coordinates.axisymmetric
+        if not drucker_prager(flow.rheology) or not plane:
             return ()
         return (DualVariable(flow.mesh, flow.rheology, flow.solution),)

@@ -26,7 +26,7 @@ from granflow.fem.material_share import MaterialShareSpec
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.mobilisation_field import MobilisationSpec
 from granflow.fem.primal_dual import PrimalDualSpec
-from granflow.physics import gravity_vector
+from granflow.physics import gravity_vector, gravity_vector_3d
 from granflow.scenarios.fluidity import fluidity_specs
 from granflow.scenarios.materials import MaterialLaw, RunMaterials, augmentation, build_side_walls
 
@@ -88,7 +88,8 @@ COUPLED_FIELDS: tuple[Resolver, ...] = (_material_share, _mobilisation, _fluidit
 def flow_spec(config: Config, materials: RunMaterials, layout: Layout) -> FlowSpec:
     """The flow solver's frozen parts for a run of ``config`` on ``layout``."""
     num, mat, st = config.numerics, config.material, config.surface_tension
-    terms = Terms(body_force=gravity_vector(mat.gravity, config.geometry.slope_deg),
+    gravity = gravity_vector_3d if layout.coordinates.dimension == 3 else gravity_vector
+    terms = Terms(body_force=gravity(mat.gravity, config.geometry.slope_deg),
                   walls=layout.walls, penalty=config.boundary.penalty,
                   side_walls=build_side_walls(config),
                   surface_tension_on=layout.surface if st.enabled else "")
