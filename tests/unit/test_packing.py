@@ -5,9 +5,9 @@ configuration's errors.
 In simple shear u = (gamma_dot y, 0) at a constant pressure P the inertial number I and
 phi_eq(I) are constant and the packing follows d phi / d gamma = - phi K (phi - phi_eq),
 integrated here by scipy's Runge-Kutta (``solve_ivp``), not by the closed form the coupling
-uses. The coupling is stepped as a run steps it (``accept`` after each step, the mesh at
-rest), so the strain rate, I and phi_eq it reads are its own cell means of the
-finite-element fields. The friction the law gives, (sigma_xy - eta gamma_dot) / P, is
+uses. The coupling is stepped as a run steps it (``start_step``, then ``accept`` after the
+step, the mesh at rest), so the strain rate, I and phi_eq it reads are its own cell means
+of the finite-element fields (phi_eq lagged by a step, from phi_c at rest). The friction the law gives, (sigma_xy - eta gamma_dot) / P, is
 mu_law(I) + K (phi - phi_eq): a peak for a dense start, a dip for a loose one, relaxing to
 mu_law(I).
 """
@@ -70,6 +70,7 @@ def sheared(state: CriticalState, steps: int, dt: float) -> tuple[list[float], D
     coupling.bind(SimpleNamespace(solution=solution, coordinates=PLANE))  # type: ignore[arg-type]
     packings = [float(np.mean(coupling.packing()))]
     for _ in range(steps):
+        coupling.start_step(dt)
         coupling.accept(dt)
         packings.append(float(np.mean(coupling.packing())))
         assert np.ptp(coupling.packing()) < 1e-12       # homogeneous

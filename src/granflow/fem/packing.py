@@ -14,8 +14,16 @@ step, linear on each triangle):
    ``fem/mobilisation_field.py`` written in differences, phi_K <- phi_K + dt / |K| sum_e
    F_e (phi_e - phi_K) with F_e the in-flux through edge e (so a uniform field stays
    uniform to the last digit), cut into substeps that keep it a convex combination;
-2. compaction or dilation at the step's gamma_dot and phi_eq(I) (cell means), the exact
-   solution of D phi / Dt = - gamma_dot K phi (phi - phi_eq) (``CriticalState.relaxed``).
+2. compaction or dilation at the step's gamma_dot (cell means) and phi_eq, the exact
+   solution of D phi / Dt = - gamma_dot K phi (phi - phi_eq) (``CriticalState.relaxed``);
+   then phi_eq(I) of the accepted state (cell means) for the next step.
+
+phi_eq is lagged by a step (phi_c at rest before the first): the continuity row's source
+div u = gamma_dot K (phi - phi_eq) then reads the pressure of no iterate. Read at the
+iterate, I's steep fall to phi_min as p -> 0 near the free surface (I grows as
+1 / sqrt(p)) switched the source on and off between iterates, and the fixed point (3.2)
+stalled (500 iterations) in a coarse rectangle at 0.07 s; with phi_eq lagged, or with a = 0,
+it converges. The friction tan(psi) of the stress reads I at the iterate, as mu(I) does.
 
 Both stay within the values they start from and phi_eq: a packing outside (0, 0.7405] is a
 failure of the run (``PackingOutOfRange``), never clipped.
@@ -59,6 +67,7 @@ class PackingField:
         self.mesh, self.coords = mesh, coords
         self.space = ngs.L2(mesh, order=0, dgjumps=True)
         self.departure = ngs.GridFunction(self.space)
+        self.equilibrium = ngs.GridFunction(self.space)   # phi_eq - phi_0 (module docstring)
         self._mesh_velocity = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
         self.triangles = triangles(mesh)
 
@@ -126,8 +135,9 @@ def _blended(laws: tuple[CriticalState, ...], share: Any, value: Any) -> Any:
 @dataclass(frozen=True)
 class DilatancySource:
     """-q gamma_dot tan(psi) on the right-hand side of the continuity row of (3.2):
-    -q div u = -q gamma_dot tan(psi), with gamma_dot and I at (u_lin, p_lin) (the iterate
-    in Picard's form, the unknowns in Newton's) and phi of the accepted state."""
+    -q div u = -q gamma_dot tan(psi), with gamma_dot at u_lin (the iterate in Picard's
+    form, the unknowns in Newton's), phi and phi_eq of the accepted state (module
+    docstring)."""
 
     coupling: PackingCoupling
     rhs_reads_iterate = True
@@ -136,7 +146,7 @@ class DilatancySource:
         return None
 
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals:
-        return s.coords.dx(-s.q * self.coupling.volumetric_rate(s.u_lin, s.p_lin, s.coords))
+        return s.coords.dx(-s.q * self.coupling.volumetric_rate(s.u_lin, s.coords))
 
 
 @dataclass(frozen=True)
@@ -159,6 +169,7 @@ class PackingCoupling(Coupling):
 
     name = "packing"
     share_of_checkpoint: Share = {"packing": may_lack(array("cells")),
+                                  "packing_equilibrium": may_lack(array("cells")),
                                   "packing_initial_mass": may_lack(REAL)}
 
     def __init__(self, field: PackingField, laws: tuple[CriticalState, ...],
@@ -167,6 +178,7 @@ class PackingCoupling(Coupling):
         self._xy = field.mesh.ngmesh.Coordinates().copy()   # the accepted state's vertices
         self._flow: Flow | None = None
         self._initial_mass: float | None = None
+        self._at_rest = True       # phi_eq not yet set from a flow (``start_step``)
 
     # --- the law and the forms -------------------------------------------------------------
     def law_fields(self) -> Mapping[str, Any]:
@@ -175,13 +187,20 @@ class PackingCoupling(Coupling):
     def terms(self) -> tuple[DilatancySource]:
         return (DilatancySource(self),)
 
-    def volumetric_rate(self, u: ngs.CoefficientFunction, p: ngs.CoefficientFunction,
+    def volumetric_rate(self, u: ngs.CoefficientFunction,
                         coords: Coordinates) -> ngs.CoefficientFunction:
-        """div u = gamma_dot tan(psi) of the materials at (u, p)."""
-        square = coords.strain_rate_sq(u)
-        departure = self.field.departure
-        return _blended(self.laws, self.fraction, lambda law: law.volumetric_rate(
-            law.initial + departure, square, p, NGSOLVE_OPS))
+        """div u = gamma_dot K (phi - phi_eq) at u, phi and phi_eq of the accepted state."""
+        shear = self.laws[0].shear_rate(coords.strain_rate_sq(u), NGSOLVE_OPS)
+        dilatancy = _blended(self.laws, self.fraction, lambda law: law.dilatancy)
+        return shear * dilatancy * (self.field.departure - self.field.equilibrium)
+
+    def start_step(self, dt: float) -> None:
+        """At the first step: phi_eq = phi_c, the packing of material at rest (I = 0)."""
+        if self._at_rest:
+            self._at_rest = False
+            initial = np.array([law.initial for law in self.laws])[self._main_material()]
+            critical = np.array([law.critical for law in self.laws])[self._main_material()]
+            self.field.equilibrium.vec.FV().NumPy()[:] = critical - initial
 
     def bind(self, flow: Flow) -> None:
         self._flow = flow
@@ -198,15 +217,17 @@ class PackingCoupling(Coupling):
         square = self._flow.coordinates.strain_rate_sq(u)
         mesh = field.mesh
         shear = cell_means(mesh, self.laws[0].shear_rate(square, NGSOLVE_OPS))[0]
-        values = field.values
+        values, lagged = field.values, field.equilibrium.vec.FV().NumPy()
         for k, law in enumerate(self.laws):
             cells = main == k
             if not cells.any():
                 continue
-            inertial = law.inertial_number(square, p, NGSOLVE_OPS)
-            equilibrium = cell_means(mesh, law.equilibrium(inertial, NGSOLVE_OPS))[0][cells]
+            equilibrium = law.initial + lagged[cells]
             packing = law.relaxed(law.initial + values[cells], shear[cells], equilibrium, dt)
             values[cells] = packing - law.initial
+            inertial = law.inertial_number(square, p, NGSOLVE_OPS)
+            lagged[cells] = cell_means(mesh, law.equilibrium(inertial, NGSOLVE_OPS))[0][
+                cells] - law.initial
         self._check()
         self._xy = xy.copy()
 
@@ -234,6 +255,7 @@ class PackingCoupling(Coupling):
 
     def save(self) -> dict[str, object]:
         return {"packing": self.field.values.copy(),
+                "packing_equilibrium": self.field.equilibrium.vec.FV().NumPy().copy(),
                 "packing_initial_mass": self.initial_mass()}
 
     def restore(self, state: Mapping[str, object]) -> None:
@@ -241,12 +263,17 @@ class PackingCoupling(Coupling):
             raise ValueError("this checkpoint was written without a packing fraction; "
                              "run the case again from the start")
         assign(self.field.values, state["packing"], "the checkpoint's packing fraction")
+        assign(self.field.equilibrium.vec.FV().NumPy(), state["packing_equilibrium"],
+               "the checkpoint's packing of steady flow")
+        self._at_rest = False
         self._initial_mass = float(state["packing_initial_mass"])   # type: ignore[arg-type]
         self._xy = self.field.mesh.ngmesh.Coordinates().copy()
 
     def inherit(self, old: Coupling, carry: Carriers) -> None:
         assert isinstance(old, PackingCoupling)
         carry.cells(old.field.departure, self.field.departure)
+        carry.cells(old.field.equilibrium, self.field.equilibrium)
+        self._at_rest = old._at_rest
         self._initial_mass = old.initial_mass()
         self._xy = self.field.mesh.ngmesh.Coordinates().copy()
 
