@@ -1,20 +1,22 @@
 """The critical-state packing (physics/packing.py, fem/packing.py) in homogeneous simple
-shear at a constant pressure, against an independent solution of its ODE, and its
-configuration's errors.
+shear at a constant pressure, against an independent solution of its ODE; the grains'
+mass in a collapse; the configuration's errors.
 
 In simple shear u = (gamma_dot y, 0) at a constant pressure P the inertial number I and
 phi_eq(I) are constant and the packing follows d phi / d gamma = - phi K (phi - phi_eq),
 integrated here by scipy's Runge-Kutta (``solve_ivp``), not by the closed form the coupling
 uses. The coupling is stepped as a run steps it (``start_step``, then ``accept`` after the
 step, the mesh at rest), so the strain rate, I and phi_eq it reads are its own cell means
-of the finite-element fields (phi_eq lagged by a step, from phi_c at rest). The friction the law gives, (sigma_xy - eta gamma_dot) / P, is
-mu_law(I) + K (phi - phi_eq): a peak for a dense start, a dip for a loose one, relaxing to
-mu_law(I).
+of the finite-element fields (phi_eq lagged by a step, from phi_c at rest). The friction
+the law gives, (sigma_xy - eta gamma_dot) / P, is mu_law(I) + K (phi - phi_eq): a peak for
+a dense start, a dip for a loose one, relaxing to mu_law(I).
 """
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import ngsolve as ngs
@@ -23,6 +25,7 @@ import pytest
 from netgen.geom2d import unit_square
 from scipy.integrate import solve_ivp
 
+import granflow
 from granflow.config import ConfigError, load_config
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.measure import PLANE
@@ -156,3 +159,31 @@ def test_a_layer_alone_with_a_packing_is_named() -> None:
     with pytest.raises(ConfigError, match="layer.packing = 'critical-state' beside "
                                           "material.packing = 'none'"):
         load_config("trapezoid-erodible", ["layer.packing=critical-state"])
+
+
+def column(tmp: Path, scenario: str, overrides: dict[str, object]) -> dict:
+    """A short collapse with the packing at its defaults; its summary."""
+    run = granflow.run(scenario, overrides={"material.packing": "critical-state",
+                                            "time.output_times": [], **overrides},
+                       out=tmp / scenario)
+    return json.loads((run.root / "summary.json").read_text())
+
+
+def test_a_collapse_keeps_the_grains_mass_as_its_volume_changes(tmp_path: Path) -> None:
+    """The paper's rectangle, coarse, to 0.05 s: the dense column (0.62) dilates where it
+    shears, its volume changes by more than 1e-3, and the grains' mass stays at its
+    initial value to round-off (the free-surface fix keeps the mass, not the area)."""
+    summary = column(tmp_path, "rectangle-rigid", {"mesh.size": 0.03, "time.t_end": 0.05})
+    assert summary["status"] == "completed"
+    assert abs(summary["volume_relative_error"]) > 1e-3
+    assert summary["mass_relative_error_max"] < 1e-12
+    assert 0.5 <= summary["packing_min"] < 0.619 and summary["packing_max"] <= 0.62 + 1e-12
+
+
+@pytest.mark.slow
+def test_the_mass_is_kept_through_remeshes(tmp_path: Path) -> None:
+    """The trapezoid to 0.16 s remeshes (at about 0.14 s): the mass through the moves and
+    the remeshes' transfer stays at its initial value to round-off."""
+    summary = column(tmp_path, "trapezoid-rigid", {"time.t_end": 0.16})
+    assert summary["status"] == "completed" and summary["remeshes"] >= 1
+    assert summary["mass_relative_error_max"] < 1e-12
