@@ -209,15 +209,16 @@ KEYS = {
               "between a poured bed (~0.58) and a vibrated one (~0.62)", low=0.3,
         high=round(DENSEST, 4)),
     "packing_slope": Key(
-        0.2, "critical-state: a of phi_eq(I) = phi_c - a I, the dense inertial regime "
-             "(GDR MiDi 2004; da Cruz et al. 2005)", low=0, high=10),
+        0.0, "critical-state: a of phi_eq(I) = phi_c - a I, the dense inertial regime "
+             "(GDR MiDi 2004; da Cruz et al. 2005: 0.1-0.3); 0 = phi_c at every I (a > 0 "
+             "can stall the iteration near the free surface, docs/model.md)", low=0, high=10),
     "packing_dilatancy": Key(
         4.0, "critical-state: K of tan(psi) = K (phi - phi_eq), the friction per unit of "
              "packing (Pailha & Pouliquen 2009); 0 = no dilatancy (incompressible)",
         low=0, high=100),
     "packing_loosest": Key(
         0.5, "critical-state: phi_min, the loosest packing of steady dense flow, where "
-             "phi_eq stops falling with I (at I = 0.5 with the defaults)", low=0.1,
+             "phi_eq stops falling with I (at I = 0.5 with a = 0.2)", low=0.1,
         high=round(DENSEST, 4)),
 }
 
