@@ -1,6 +1,7 @@
 """Benchmark: the critical-state packing (docs/model.md, "Packing fraction") in a collapse.
 
 Run: python benchmarks/packing.py validation [--scenario rectangle-rigid] [--t-end T]
+         [--cases incompressible loose dense]
      python benchmarks/packing.py cost [--scenario rectangle-rigid] [--t-end 0.2] [--pairs 3]
          [--out benchmarks/results/packing]
 
@@ -25,7 +26,7 @@ import resource
 import statistics
 from pathlib import Path
 
-from common.results import report, write_results
+from common.results import read_results, report, write_results
 
 import granflow
 from granflow.config import load_config
@@ -62,8 +63,9 @@ CASES = {"incompressible": [],
 
 def validation(args: argparse.Namespace) -> None:
     common = [f"time.t_end={args.t_end!r}"] if args.t_end else []
-    rows = {}
-    for name, overrides in CASES.items():
+    rows = read_results(args.out / "validation.json").get("rows", {}) if args.cases else {}
+    for name in args.cases or CASES:
+        overrides = CASES[name]
         rows[name] = run(args.scenario, [*common, *overrides], args.out / "runs" / name)
         report(name, rows[name])
         lines = ["| case | runout (m) | stop (s) | front stops (s) | mass error max | "
@@ -114,6 +116,8 @@ def main() -> None:
     parser.add_argument("--scenario", default="rectangle-rigid")
     parser.add_argument("--t-end", type=float, default=None)
     parser.add_argument("--pairs", type=int, default=3)
+    parser.add_argument("--cases", nargs="+", choices=list(CASES),
+                        help="validation: run these cases only, keeping the others' rows")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/packing"))
     args = parser.parse_args()
     if args.study == "cost" and args.t_end is None:
