@@ -70,6 +70,7 @@ class PackingField:
         self.equilibrium = ngs.GridFunction(self.space)   # phi_eq - phi_0 (module docstring)
         self._mesh_velocity = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
         self.triangles = triangles(mesh)
+        self._fluxes: tuple[ngs.CoefficientFunction, ngs.BilinearForm] | None = None
 
     @property
     def values(self) -> np.ndarray:
@@ -94,15 +95,23 @@ class PackingField:
         nv = self.mesh.nv
         for c, component in enumerate(self._mesh_velocity.components):
             component.vec.FV().NumPy()[:nv] = displacement[:, c] / dt
-        flux = (velocity - self._mesh_velocity) * ngs.specialcf.normal(self.mesh.dim)
-        phi, v = self.space.TnT()
-        inward = ngs.IfPos(flux, 0.0, flux)          # -[-(u - w) . n]_+
-        form = ngs.BilinearForm(self.space)
-        form += self.coords.dx(inward * phi.Other() * v, element_boundary=True)
+        form = self._flux_form(velocity)
         form.Assemble()
         rows, columns, values = (np.asarray(a) for a in form.mat.COO())
         into = (rows != columns) & (values < 0.0)   # on a wall there is no neighbour
         return rows[into], columns[into], -values[into]
+
+    def _flux_form(self, velocity: ngs.CoefficientFunction) -> ngs.BilinearForm:
+        """The form of the in-fluxes with ``velocity``, built once for it (a run passes
+        the flow's velocity field every step) and assembled each step."""
+        if self._fluxes is None or self._fluxes[0] is not velocity:
+            flux = (velocity - self._mesh_velocity) * ngs.specialcf.normal(self.mesh.dim)
+            phi, v = self.space.TnT()
+            inward = ngs.IfPos(flux, 0.0, flux)          # -[-(u - w) . n]_+
+            form = ngs.BilinearForm(self.space)
+            form += self.coords.dx(inward * phi.Other() * v, element_boundary=True)
+            self._fluxes = (velocity, form)
+        return self._fluxes[1]
 
     def advect(self, velocity: ngs.CoefficientFunction, displacement: np.ndarray,
                dt: float) -> int:
@@ -204,6 +213,7 @@ class PackingCoupling(Coupling):
 
     def bind(self, flow: Flow) -> None:
         self._flow = flow
+        self._velocity = flow.solution.components[0]   # one object: its form is kept
 
     # --- through a step ------------------------------------------------------------------
     def accept(self, dt: float) -> None:
@@ -211,7 +221,7 @@ class PackingCoupling(Coupling):
         assert self._flow is not None
         field, xy = self.field, self.field.mesh.ngmesh.Coordinates()
         self.initial_mass()                   # (at t = 0: before the first step changes it)
-        u, p = self._flow.solution.components
+        u, p = self._velocity, self._flow.solution.components[1]
         field.advect(u, xy - self._xy, dt)
         main = self._main_material()
         square = self._flow.coordinates.strain_rate_sq(u)
