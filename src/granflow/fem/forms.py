@@ -25,7 +25,8 @@ import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS, read_on_walls
 from granflow.fem.measure import PLANE, Coordinates
-from granflow.physics import CoulombFriction, Rheology, SideWallFriction
+from granflow.physics import Rheology, SideWallFriction
+from granflow.physics.ops import Ops
 
 
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -79,6 +80,15 @@ class Term(Protocol):
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
+
+
+class WallLaw(Protocol):
+    """What a wall exerts along itself: the factor c of the traction -c u_T from |u_T|^2 and
+    the normal load (``physics/friction.py: CoulombFriction``, ``physics/bed.py``)."""
+
+    def drag_coefficient_sq(self, slip_sq: ngs.CoefficientFunction,
+                            normal_stress: ngs.CoefficientFunction,
+                            ops: Ops) -> ngs.CoefficientFunction: ...
 
 
 class StressTerm(Term, Protocol):
@@ -201,7 +211,8 @@ class BodyForce:
 
 @dataclass(frozen=True)
 class FrictionWall:
-    """A boundary region with Coulomb friction (2.8) and the non-penetration penalty (2.7).
+    """A boundary region with Coulomb friction (2.8) (or another law along it: a bed's,
+    ``physics/bed.py``) and the non-penetration penalty (2.7).
 
     ``normal_load`` is what presses the material on the wall in the friction law:
     "pressure", the paper's pointwise [p - sigma'_N]_+ of (3.2a), or "reaction", the
@@ -211,7 +222,7 @@ class FrictionWall:
     """
 
     region: str
-    law: CoulombFriction
+    law: WallLaw
     normal_load: str = "pressure"
     velocity: ngs.CoefficientFunction | None = None   # a moving wall's (a gate), tangential
 
@@ -263,7 +274,9 @@ class CoulombWallFriction:
         moving = s.u_lin if self.wall.velocity is None else s.u_lin - self.wall.velocity
         slip = tangential(moving, n)
         skeleton = False
-        if self.wall.normal_load == "reaction":
+        if not getattr(self.wall.law, "reads_load", True):     # a no-slip penalty
+            load = ngs.CF(0.0)
+        elif self.wall.normal_load == "reaction":
             load = self.penalty * (s.u_lin * n)
         else:
             sigma = self.stress.wall_deviatoric(s.u_lin, s.p_lin, frozen)

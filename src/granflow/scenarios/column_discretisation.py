@@ -22,6 +22,7 @@ from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
 from granflow.physics import CoulombFriction, gravity_vector
+from granflow.scenarios.bed import bed_wall, rough_bed
 from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.fluidity import fluidity_field
 from granflow.scenarios.materials import augmentation, build_side_walls
@@ -67,7 +68,7 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
     config, scene, coords = setup.config, setup.scene, setup.coordinates
     geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
     load = bnd.normal_load
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load)]
+    walls: list[FrictionWall] = []     # the bed's, once the law is built
     if not coords.axisymmetric:
         walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg,
                                                         num.eps_friction), load))
@@ -87,11 +88,12 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
     # triangle's (fem/engine.py: read_on_walls), the volume the function itself
     share = fraction
     fluidity = fluidity_field(config, materials, mesh, coords=coords, fraction=share,
-                              rough=BED if bnd.bed_fluidity == "zero" else "")
+                              rough=rough_bed(config))
     state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
     side_walls, augmented = build_side_walls(config), augmentation(config)
     rheology, density = materials.law(num.eps, *state, share=share, fluidity=(
         fluidity.current if fluidity is not None else 0.0))
+    walls.insert(0, bed_wall(config, rheology))
     solver = FlowSolver(mesh, rheology=rheology, density=density,
                         body_force=gravity_vector(mat.gravity, geo.slope_deg),
                         walls=walls, penalty=bnd.penalty, linearization=num.linearization,
