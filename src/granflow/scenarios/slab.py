@@ -64,6 +64,14 @@ class Slab:
         self.simulation.callbacks.restore_state(state)
 
 
+def slab_figure(run_dir: Any, config: Config) -> None:
+    """Speeds against time, velocity and displacement across the strip
+    (``io/slab_plots.py``)."""
+    from granflow.io.slab_plots import plot_slab
+
+    plot_slab(run_dir, config)
+
+
 @dataclass
 class SlabMeasures(Outputs):
     """What the slab's run measures (module docstring): each step the mean speed along the
@@ -76,6 +84,7 @@ class SlabMeasures(Outputs):
 
     columns = ("slab_speed", "slab_distance", "layer_speed", "layer_distance", "bed_slip",
                "surface_speed")
+    figures = (slab_figure,)
     share: ClassVar[Share] = {"slab": record({
         "t": TIME, "slab_distance": or_none(TIME), "layer_distance": or_none(TIME),
         "speeds": array(2), "displacement": array("levels"),
@@ -278,4 +287,4 @@ def build_slab(config: Config) -> Slab:
     return problem
 
 
-register("slab", build_slab)
+register("slab", build_slab, figures=SlabMeasures.figures)
