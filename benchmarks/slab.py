@@ -55,8 +55,9 @@ SWITCHES = {
     "no-slip": ["boundary.bed=no-slip"],          # (a) the bed: rough, does not slide
     "material-bed": ["boundary.bed=material"],   # (a) the bed: the material's own law
     "small-eta": ["material.viscosity=0.01"],    # (b) eta / 100
-    # (c) the band resolved: cells of half a grain across slab and layer (the base: 2.5 mm)
-    "fine-band": ["mesh.size=0.00025", "mesh.layer_cells=20"],
+    # (c) the band resolved: cells of 0.31 mm, 0.6 grain, across slab and a 5 mm layer
+    # (mesh.layer_cells at most 16; the base: 2.5 mm)
+    "fine-band": ["mesh.size=0.0003125", "mesh.layer_cells=16"],
     "side-walls": ["boundary.channel_width=0.1"],   # (e) the experiments' 10 cm channel
     "zero-fluidity": ["boundary.bed_fluidity=zero"],   # nonlocal: g = 0 on the Coulomb bed
 }
