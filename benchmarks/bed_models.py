@@ -91,6 +91,7 @@ def rest(out: Path, results: dict, levels: list[float]) -> dict:
         name = f"rest-{REST_SLOPE:g}-{1e3 * size:g}mm"
         folder = out / "runs" / name
         overrides = [*COMMON, *LAWS["nonlocal"], "boundary.normal_load=reaction",
+                     "numerics.anderson_depth=3",   # (3.2) 2-cycles at the held front
                      "boundary.bed=no-slip", f"geometry.slope_deg={REST_SLOPE}",
                      f"mesh.size={size!r}", f"time.t_end={REST_END}",
                      "time.stop_at_rest=true", f"time.output_times=[{REST_END}]"]
