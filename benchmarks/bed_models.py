@@ -5,7 +5,7 @@ Run: python benchmarks/bed_models.py [--cases flat rest] [--levels 0.014 0.007]
          [--out benchmarks/results/bed_models]
 
 - flat: the paper's rectangle and trapezoid on the level bed (`rectangle-rigid`,
-  `trapezoid-rigid` at their settings) with Drucker-Prager (the paper's law: on the
+  `trapezoid-rigid` at their settings, to rest or 3 s) with Drucker-Prager (the paper's law: on the
   25.5-degree Coulomb bed the model the paper shows against the experiments), the glass
   beads' mu(I) and the nonlocal law (Henann & Kamrin's beads, as benchmarks/erosion_slopes.py),
   each on the Coulomb bed, the no-slip bed and the material bed (Drucker-Prager's material
@@ -50,6 +50,7 @@ KEYS = ["status", "message", "t_final", "steps", "rejected_steps", "nonlinear_it
         "wall_time_s", "stop_time_s", "front_stop_time_s", "runout_m", "n_triangles",
         "remeshes"]
 REST_SLOPE, REST_END = 22.0, 30.0
+FLAT_END = 3.0   # s: every level-bed run to rest (the rate-dependent laws creep longer)
 
 
 def final_surface(run: Path) -> np.ndarray | None:
@@ -70,7 +71,7 @@ def flat(out: Path, results: dict) -> dict:
                     continue       # its Coulomb bed, to round-off (tests/unit/test_bed.py)
                 name = f"{shape}-{law}-{bed}"
                 folder = out / "runs" / name
-                overrides = [*COMMON, *keys, f"boundary.bed={bed}"]
+                overrides = [*COMMON, *keys, f"boundary.bed={bed}", f"time.t_end={FLAT_END}"]
                 row = {k: v for k, v in run_or_continue(scenario, overrides, folder).items()
                        if k in KEYS}
                 first, second = final_surface(folder), final_surface(reference)
