@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
 import pytest
 
+import granflow
 from granflow.config import load_config
 from granflow.physics import MuI
 from granflow.reference.incline import bagnold_profile
@@ -118,3 +120,18 @@ def test_a_slab_over_a_weakly_viscous_layer_shears_only_the_layers_top() -> None
                                - math.sin(theta)))
     assert measures.layer_moved_depth() <= 0.005 / 4 + 1e-12
     assert (2 / 3) ** 2 * block < measures.slab_distance < block
+
+
+def test_a_slab_resumed_from_its_checkpoint_travels_as_the_uninterrupted_one(
+        tmp_path: Path) -> None:
+    """The slab's distances and displacements are in the checkpoint: a run stopped at
+    0.06 s and extended to 0.12 s ends where the run to 0.12 s does."""
+    case = {"geometry.erodible_thickness": 0.005, "time.stop_at_rest": False,
+            "time.output_times": [], "output.progress": False}
+    granflow.run("slab", {**case, "time.t_end": 0.06}, out=tmp_path / "a")
+    resumed = granflow.resume(tmp_path / "a", {"time.t_end": 0.12}).summary.extra
+    whole = granflow.run("slab", {**case, "time.t_end": 0.12, "time.output_times": [0.06]},
+                         out=tmp_path / "b").summary.extra      # its steps end at 0.06 too
+    for key in ("slab_distance_m", "layer_distance_m", "slab_speed_m_s"):
+        assert resumed[key] == pytest.approx(whole[key], rel=1e-9), key
+    assert whole["slab_distance_m"] > 0.05            # it moved
