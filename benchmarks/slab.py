@@ -24,6 +24,7 @@ import shutil
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -31,6 +32,7 @@ from common.results import read_results, report, write_json, write_markdown  # n
 
 import granflow  # noqa: E402
 from granflow.config import load_config  # noqa: E402
+from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
@@ -92,27 +94,40 @@ def run(variant: str, he: float, slope: float, speed: float, out: Path,
         done: dict | None) -> dict:
     """One run, or its row from the record when it ran with the same overrides."""
     found = overrides(variant, he, slope, speed)
+    folder = out / "runs" / variant.replace("/", "_") / f"{1e3 * he:g}mm-{slope:g}"
     if done and done.get("overrides") == found and done.get("status") in ("completed",
                                                                          "stopped"):
+        if "surface_distance_m" not in done and (folder / "diagnostics.csv").is_file():
+            done["surface_distance_m"] = surface_distance(folder)   # a row of before
         return done
-    folder = out / "runs" / variant.replace("/", "_") / f"{1e3 * he:g}mm-{slope:g}"
     shutil.rmtree(folder, ignore_errors=True)
     before = resource.getrusage(resource.RUSAGE_SELF).ru_utime
     granflow.run(load_config("slab", found), out=folder, force=True)
     cpu = resource.getrusage(resource.RUSAGE_SELF).ru_utime - before
     summary = RunDir.summary(folder)
     return ({k: summary.get(k) for k in KEYS}
-            | {"variant": variant, "he": he, "slope": slope, "speed": speed,
-               "cpu_s": round(cpu, 2), "overrides": found})
+            | {"surface_distance_m": surface_distance(folder), "variant": variant, "he": he,
+               "slope": slope, "speed": speed, "cpu_s": round(cpu, 2), "overrides": found})
 
 
-def ratio(bed: dict, layer: dict) -> tuple[float | None, str]:
+def surface_distance(folder: Path) -> float:
+    """How far the free surface's material travelled: its mean speed along the bed
+    (``surface_speed``, every step) integrated in time from U0 at t = 0 (the front of a
+    collapse is surface material overriding)."""
+    table = read_diagnostics(folder)
+    t = np.concatenate([[0.0], table["t"].to_numpy()])
+    speed = table["surface_speed"].to_numpy()
+    return float(np.trapezoid(np.concatenate([[speed[0]], speed]), t))
+
+
+def ratio(bed: dict, layer: dict, measure: str = "slab_distance_m"
+          ) -> tuple[float | None, str]:
     """(b)/(a) of the slab's distances, and what it is: "" both at rest; "≥" the slab on the
     layer still moving at t_end (it only goes further); "≤" the slab on the bed still
     moving; "≈" both moving (their distances at t_end: the speeds say more)."""
-    if not bed or not layer or not bed.get("slab_distance_m"):
+    if not bed or not layer or not bed.get(measure):
         return None, ""
-    value = layer["slab_distance_m"] / bed["slab_distance_m"]
+    value = layer[measure] / bed[measure]
     stopped = (bed.get("stop_time_s") is not None, layer.get("stop_time_s") is not None)
     return value, {(True, True): "", (True, False): "≥", (False, True): "≤",
                    (False, False): "≈"}[stopped]
@@ -131,12 +146,13 @@ def cell(row: dict | None) -> str:
 
 
 def table(results: dict, variants: list[str], slopes: list[float], he: float) -> str:
-    """Per variant: the ratio (b)/(a) at each slope (the speeds' ratio at t_end where both
-    still move), then (a) and (b) themselves."""
+    """Per variant: the ratio (b)/(a) of the slab's distances at each slope (the speeds'
+    ratio at t_end where both still move), that of the surface's distances, then (a) and
+    (b) themselves."""
     head = "| variant | " + " | ".join(f"{s:g}°" for s in slopes) + " |"
     lines = [head, "|" + "---|" * (1 + len(slopes))]
     for variant in variants:
-        ratios, runs = [], []
+        ratios, surfaces, runs = [], [], []
         for slope in slopes:
             a, b = results.get(key(variant, 0.0, slope)), results.get(key(variant, he, slope))
             value, mark = ratio(a or {}, b or {})
@@ -144,8 +160,11 @@ def table(results: dict, variants: list[str], slopes: list[float], he: float) ->
             if mark == "≈" and a and b and a.get("slab_speed_m_s"):
                 shown += f" (speeds {b['slab_speed_m_s'] / a['slab_speed_m_s']:.2f})"
             ratios.append(shown)
+            value, mark = ratio(a or {}, b or {}, "surface_distance_m")
+            surfaces.append("-" if value is None else f"{mark} {value:.2f}".strip())
             runs.append(f"{cell(a)}<br>{cell(b)}")
         lines.append(f"| **{variant}** | " + " | ".join(ratios) + " |")
+        lines.append("| its surface | " + " | ".join(surfaces) + " |")
         lines.append("| (a) / (b) | " + " | ".join(runs) + " |")
     return "\n".join(lines) + "\n"
 
