@@ -109,6 +109,34 @@ def rest(out: Path, results: dict, levels: list[float]) -> dict:
     return rows
 
 
+def figure(out: Path) -> None:
+    """The final free surfaces on the level bed: per column and law, its three beds, with
+    Drucker-Prager on the Coulomb bed (black) under each."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from granflow.io.plots import save_figure
+
+    laws = [law for law in LAWS if law != "drucker-prager"]
+    fig, axes = plt.subplots(len(SHAPES), len(laws) + 1, figsize=(13, 5.5), squeeze=False)
+    for row, shape in zip(axes, SHAPES, strict=True):
+        reference = final_surface(out / "runs" / f"{shape}-drucker-prager-coulomb")
+        for ax, law in zip(row, ["drucker-prager", *laws], strict=True):
+            if reference is not None:
+                ax.plot(reference[:, 0], reference[:, 1], "k-", lw=2, label="DP, coulomb")
+            for bed, style in zip(BEDS, ("-", "--", ":"), strict=True):
+                surface = final_surface(out / "runs" / f"{shape}-{law}-{bed}")
+                if surface is not None and (law, bed) != ("drucker-prager", "coulomb"):
+                    ax.plot(surface[:, 0], surface[:, 1], style, label=bed)
+            ax.set_title(f"{shape}, {law}", fontsize=9)
+            ax.set_xlabel("x (m)")
+            ax.legend(fontsize=7)
+        row[0].set_ylabel("z (m)")
+    save_figure(fig, out / "bed_models.png")
+
+
 def markdown(results: dict) -> list[str]:
     lines = ["# The rigid bed's models on the paper's collapses", ""]
     flat_rows = results.get("flat", {})
@@ -158,6 +186,8 @@ def main() -> None:
     if "rest" in args.cases:
         rest(args.out, results, args.levels)
     write_results(args.out, "bed_models", results, markdown(results), show=True)
+    if "flat" in args.cases:
+        figure(args.out)
 
 
 if __name__ == "__main__":

@@ -59,7 +59,7 @@ def test_a_block_on_a_coulomb_bed_stops_where_the_rigid_block_does(slope: float)
 
 def test_a_mu_i_layer_over_the_material_bed_slips_by_its_basal_shear_over_a_grain() -> None:
     """Glass beads' mu(I) (eta = 1e-4 Pa s) at 23 deg over the material bed, started from
-    Bagnold's profile plus the slip d gamma_dot(0): after 1 s the slip within 3 % and the
+    Bagnold's profile plus the slip d gamma_dot(0): after 1 s the slip within 1 % and the
     surface within 1 % of that steady state. (A no-slip or a 25.5-degree Coulomb bed holds
     the base: no slip at all.)"""
     mu_i = ["material.rheology=mu-i", "material.density=1500", "material.viscosity=1e-4",
@@ -82,7 +82,7 @@ def test_a_mu_i_layer_over_the_material_bed_slips_by_its_basal_shear_over_a_grai
     problem.simulation.run()
     measures = problem.simulation.callbacks["slab"].func
     bed, surface = measures._boundary_speed("bed"), measures._boundary_speed("surface")
-    assert bed == pytest.approx(slip, rel=0.03)
+    assert bed == pytest.approx(slip, rel=0.01)
     assert surface == pytest.approx(slip + float(steady(0.01)), rel=0.01)
     assert slip / surface > 0.05          # the slip is not negligible: the test sees it
 
