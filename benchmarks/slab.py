@@ -18,7 +18,7 @@ A variant is a law, or a law and switches joined by "/" ("nonlocal/no-slip+small
 its overrides are the law's then each switch's. Runs go to OUT/runs/VARIANT/HEmm-SLOPE
 (HE = 0: on the bed; ignored by git); OUT/slab.json keeps every run's figures, and a run
 already there with the same overrides is not run again (rerunning continues the table);
-OUT/slab-HEmm.md is the table: per variant and slope, (a), (b) and their ratio; OUT/slab.png
+OUT/slab-HEmm.md is the table: per variant and slope, (a), (b) and their ratio; OUT/slab-HEmm.png
 the ratio against slope. Each run records its processor time.
 """
 
