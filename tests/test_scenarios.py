@@ -23,6 +23,7 @@ SHORT = {
                            "time.t_end=0.005", "time.output_times=[]"],
     "incline-mu-i": ["mesh.size=0.0025", "time.dt=0.01", "time.t_end=0.05",
                      "time.output_times=[0.05]"],
+    "incline-nonlocal": ["time.t_end=0.05", "time.output_times=[0.05]"],
     "incline-to-floor": ["mesh.size=0.04", "time.t_end=0.01", "time.output_times=[0.01]"],
     "hillslope": ["mesh.size=0.08", "time.t_end=0.01", "time.output_times=[0.01]"],
     "slab": ["geometry.erodible_thickness=0.005", "time.t_end=0.02",
@@ -68,6 +69,8 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
         assert 0.015 < summary["slab_distance_m"] == summary["runout_m"] < 0.02
         assert 0 < summary["layer_moved_depth_m"] <= 0.005
         assert (out / "profiles" / "slab_t0.020.csv").exists()
+    elif scenario == "incline-nonlocal":    # thicker than h_stop: the steady flow is its own
+        assert summary["reference"] == "steady" and summary["reference_note"] is None
     elif scenario in ("incline-to-floor", "hillslope"):     # a mass on a bed profile
         assert summary["volume_relative_error"] < 1e-10
         config = load_config(out / "config.toml")
@@ -81,7 +84,8 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
     finals = sorted(p.name for p in (out / "profiles").glob("*_final.csv"))
     layer = (["erosion_depth_final.csv", "layer_line_final.csv", "layer_markers_final.csv"]
              if "erodible" in scenario else [])
-    assert finals == (["velocity_final.csv"] if scenario in ("plug-flow", "incline-mu-i") else
+    periodic = ("plug-flow", "incline-mu-i", "incline-nonlocal")
+    assert finals == (["velocity_final.csv"] if scenario in periodic else
                       ["slab_final.csv"] if scenario == "slab" else
                       sorted(["free_surface_final.csv", "interface_final.csv",
                               "velocity_sections_final.csv", *layer]))

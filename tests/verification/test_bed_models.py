@@ -18,6 +18,7 @@ from granflow.config import ConfigError, load_config
 from granflow.fem.sampling import vertex_samples
 from granflow.geometry.mesh import BED
 from granflow.scenarios.column import build_column
+from granflow.scenarios.fluidity import fluidity_of
 
 SHORT = ["mesh.size=0.035", "time.t_end=0.08", "time.output_times=[]",
          "time.stop_at_rest=false"]
@@ -58,7 +59,7 @@ def test_the_fluidity_is_zero_on_a_no_slip_bed() -> None:
     nonlocal_ = ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
                  "geometry.slope_deg=22", "boundary.bed=no-slip", "time.t_end=0.01"]
     problem = collapse(nonlocal_)
-    field = problem.solver.fluidity
+    field = fluidity_of(problem.solver)
     assert field is not None
     on_bed = ngs.Integrate(field.previous**2, problem.mesh, ngs.BND,
                            definedon=problem.mesh.Boundaries(BED))

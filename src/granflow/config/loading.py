@@ -5,6 +5,8 @@ Layers, each overriding the one before (pyro2-style):
 1. package defaults, ``granflow/defaults.toml`` (the one place where defaults live);
 2. a scenario: a built-in name, or a TOML file, which may start from a built-in one with a
    top-level ``scenario = "NAME"``;
+   a material preset (``material.preset``, ``layer.preset``) sets its constants over the
+   layers below the one that names it (``presets.py``);
 3. overrides: ``--set section.key=value`` texts, the value read as a TOML literal
    (``1e-4``, ``true``, ``[0.1, 0.2]``, ``"newton"``) or else as a bare string; or, from
    Python, a mapping ``{"section.key": value}`` of Python values.
@@ -33,9 +35,11 @@ from pydantic_core import PydanticCustomError
 
 from granflow.config.kinds import KIND_RULES, absolute_paths, anchor_paths, rules_of
 from granflow.config.messages import fmt_value, note, one_line
+from granflow.config.presets import apply_presets, changed_keys, mixed_constants, user_keys
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
-from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
+from granflow.config.schema import SECTIONS, ConfigError, ConfigModel, law_sections
+from granflow.physics.laws import law_keys
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
@@ -98,6 +102,7 @@ def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
     A key the user sets (in a TOML file or an override) to something other than what it
     would be anyway is rejected when it has no effect on this scenario (``inert_keys``).
     """
+    law_sections()
     data = _defaults()
     name, layers = _read_source(source)
     from_file = name == CUSTOM or len(layers) > 1
@@ -109,21 +114,28 @@ def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
     explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
     keys = _apply(data, overrides)
     data["scenario"] = name
-    return _resolve(data, base, explicit or "time.output_times" in keys)
+    apply_presets(data, base, user_keys(layers, keys))
+    user = set(keys) | ({f"{s}.{k}" for s, t in layers[-1].items() if isinstance(t, dict)
+                         for k in t} if from_file else set())
+    return _resolve(data, base, explicit or "time.output_times" in keys, user)
 
 
 def apply_overrides(config: Config, overrides: Overrides) -> Config:
     """A copy of ``config`` with overrides applied, checked as ``load_config`` checks them
     (a key without effect here is refused when its value changes)."""
+    law_sections()
     data = config.model_dump()
     base = copy.deepcopy(data)
     keys = _apply(data, overrides)
-    return _resolve(data, base, "time.output_times" in keys)
+    apply_presets(data, base, changed_keys(config, keys))
+    return _resolve(data, base, "time.output_times" in keys, set(keys))
 
 
-def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -> Config:
-    """The one validation path of every interface: ``data`` (the layers and overrides
-    merged) against ``base`` (what the keys would be without the user's settings)."""
+def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool,
+             user: set[str]) -> Config:
+    """The one validation path of every interface: ``data`` (the layers, the presets and
+    the overrides merged) against ``base`` (what the keys would be without the user's
+    settings, ``user``: the "section.key" names they set)."""
     dropped = _drop_late_outputs(data, explicit_times)
     absolute_paths(data)
     name = data["geometry"].get("kind")
@@ -146,6 +158,8 @@ def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -
                               "of them")
         data["mesh"]["size"] = size      # the resolution follows the column
         config = _validate(data)
+    for line in mixed_constants(config, user):
+        note(line)
     if dropped:
         note(f"time.output_times {fmt_value(dropped)} of the scenario come after "
              f"time.t_end = {config.time.t_end:g} s and are not written (set "
@@ -183,10 +197,15 @@ def config_to_toml(config: Config) -> str:
 
 
 def _defaults() -> dict[str, Any]:
+    """defaults.toml, and the defaults of the keys the laws register (``physics/laws.py``)."""
     text = resources.files("granflow").joinpath("defaults.toml").read_text(encoding="utf-8")
     data = tomllib.loads(text)
     _check_keys(data)
-    return {section: dict(data.get(section, {})) for section in SECTIONS}
+    out = {section: dict(data.get(section, {})) for section in SECTIONS}
+    for key, spec in law_keys().items():
+        out["material"].setdefault(key, spec.default)
+        out["layer"].setdefault(key, "none")
+    return out
 
 
 def _read_source(source: str | Path) -> tuple[str, list[dict[str, Any]]]:

@@ -20,22 +20,24 @@ import numpy as np
 
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
-from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation_field import MobilisationField
+from granflow.fem.flow_factory import build_flow
+from granflow.fem.material_share import MaterialShare
+from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.geometry.mesh import BED, SURFACE, stacked_layer_mesh
 from granflow.physics import gravity_vector
 from granflow.scenarios.bed import bed_wall, rough_bed
-from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
-from granflow.scenarios.materials import augmentation, build_side_walls, run_materials
+from granflow.scenarios.flow_config import Layout, flow_spec
+from granflow.scenarios.fluidity import FluidityOutputs
+from granflow.scenarios.materials import run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import TIME, Share, array, assign, or_none, record
 from granflow.simulation.timestep import step_policy
+from granflow.state.spec import TIME, Share, array, assign, or_none, record
 
 FLOWING_SPEED = 1e-3   # m/s: material moves above it (paper section 5.1.2)
 
@@ -48,8 +50,18 @@ class Slab:
     mesh: ngs.Mesh
     solver: FlowSolver
     simulation: Simulation
-    fraction: ngs.GridFunction | None = None        # a layer of its own material: its share
-    mobilisation: MobilisationField | None = None   # a hysteretic friction's state
+
+    @property
+    def fraction(self) -> ngs.GridFunction | None:
+        """A layer of its own material: its share per triangle (else None)."""
+        share = self.solver.coupling(MaterialShare)
+        return share.fraction if share is not None else None
+
+    @property
+    def mobilisation(self) -> MobilisationField | None:
+        """A hysteretic friction's state (else None)."""
+        coupling = self.solver.coupling(MobilisationCoupling)
+        return coupling.field if coupling is not None else None
 
     def save_state(self) -> dict[str, Any]:
         """The flow's history and the shares of the loop's callbacks (the mesh never moves)."""
@@ -216,12 +228,10 @@ def mesh_length(mesh: ngs.Mesh) -> float:
     return float(x.max() - x.min())
 
 
-def layer_share(mesh: ngs.Mesh, thickness: float) -> ngs.GridFunction:
+def layer_share(mesh: ngs.Mesh, thickness: float) -> np.ndarray:
     """1 in the triangles of the layer (below ``thickness``), 0 in the slab's."""
-    share = ngs.GridFunction(ngs.L2(mesh, order=0))
     centres = mesh.ngmesh.Coordinates()[triangles(mesh)].mean(axis=1)[:, 1]
-    share.vec.FV().NumPy()[:] = (centres < thickness).astype(float)
-    return share
+    return (centres < thickness).astype(float)
 
 
 def initial_state(config: Config, force: tuple[float, float]
@@ -251,36 +261,25 @@ def build_slab(config: Config) -> Slab:
     mesh = stacked_layer_mesh(geo.length, layers, cells_x)
     force = gravity_vector(mat.gravity, geo.slope_deg)
     materials = run_materials(config)
-    fraction = layer_share(mesh, he) if materials.layer is not None else None
-    mobilisation = MobilisationField(mesh) if materials.hysteretic else None
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    fluidity = fluidity_field(config, materials, mesh, periodic=True, rough=rough_bed(config),
-                              fraction=fraction)
-    law, density = materials.law(num.eps, *state, share=fraction, fluidity=(
-        fluidity.current if fluidity is not None else 0.0))
-    solver = FlowSolver(mesh, rheology=law, density=density, body_force=force, periodic=True,
-                        walls=[bed_wall(config, law)], penalty=config.boundary.penalty,
-                        linearization=num.linearization,
-                        linear_solver=direct_solver(num.linear_solver),
-                        initial_guess=num.initial_guess, augmentation=augmentation(config),
-                        scheme=config.time.scheme, anderson_depth=num.anderson_depth,
-                        side_walls=build_side_walls(config), fluidity=fluidity,
-                        fluidity_coupling=num.fluidity_coupling)
+    layout = Layout(walls=(bed_wall(config),), periodic=True, rough=rough_bed(config))
+    solver = build_flow(mesh, flow_spec(config, materials, layout))
+    problem = Slab(config=config, mesh=mesh, solver=solver, simulation=Simulation(
+        solver=solver, steps_policy=step_policy(config), t_end=config.time.t_end,
+        max_iterations=num.max_iterations, velocity_floor=num.velocity_floor))
+    if problem.fraction is not None:
+        problem.fraction.vec.FV().NumPy()[:] = layer_share(mesh, he)
     solver.set_state(*initial_state(config, force))     # g = 0: a slab moving as a block
-    simulation = Simulation(solver=solver, steps_policy=step_policy(config),
-                            t_end=config.time.t_end, max_iterations=num.max_iterations,
-                            velocity_floor=num.velocity_floor)
-    problem = Slab(config=config, mesh=mesh, solver=solver, simulation=simulation,
-                   fraction=fraction, mobilisation=mobilisation)
+    simulation = problem.simulation
     measures = SlabMeasures(problem, he, materials.of_layer.grain_diameter)
     add_callback(simulation, measures, "slab")
     if config.time.stop_at_rest:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
+    fluidity = FluidityOutputs.of(problem)
     if fluidity is not None:
-        add_callback(simulation, FluidityOutputs(problem), "fluidity")
-    if mobilisation is not None:
+        add_callback(simulation, fluidity, "fluidity")
+    if problem.mobilisation is not None:
         tracking = MobilisationTracking(materials, problem, simulation)
         tracking.start()
         add_callback(simulation, tracking, "mobilisation")
