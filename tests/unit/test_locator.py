@@ -60,3 +60,20 @@ def test_located_values_agree_with_ngsolve_search() -> None:
         values_at(mesh, u, points[:3000]), abs=1e-14)
     guessed, _ = locator.locate(points, guess=element)      # a warm start finds the same
     assert np.array_equal(guessed < 0, element < 0)
+
+
+def test_points_on_the_boundary_of_a_concave_mesh_are_inside() -> None:
+    """Midpoints of boundary edges, whose walk may stop at another stretch of the boundary,
+    are found (a field's value there, not the nearest vertex's)."""
+    mesh = _l_shaped_mesh()
+    xy = mesh.ngmesh.Coordinates()
+    segments = mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
+    middle = xy[segments].mean(axis=1)
+    locator = PointLocator(mesh)
+    far = np.full(len(middle), int(np.argmax(xy[triangles(mesh)].mean(axis=1)[:, 0])))
+    element, _ = locator.locate(middle, guess=far)           # walks from far away
+    assert np.all(element >= 0)
+    u = ngs.GridFunction(ngs.H1(mesh, order=2))
+    u.Set(ngs.x * ngs.x + ngs.y)
+    assert locator.values(u, middle)[:, 0] == pytest.approx(
+        middle[:, 0] ** 2 + middle[:, 1], abs=1e-3)

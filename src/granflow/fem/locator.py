@@ -7,8 +7,8 @@ connectivity) and walks, for all points together with numpy, from a first guess 
 triangle the point was in at the last call, else the one whose centroid is nearest, from
 a k-d tree of the current centroids) across the edge facing the point until the point's
 barycentric coordinates are all non-negative. A point whose walk leaves the mesh is
-outside if it is outside the boundary polygon, else (behind a concave stretch of the
-boundary, rare) tested against every triangle. A point is inside when it is within
+outside if it is outside the boundary polygon by more than the tolerance, else (behind a
+concave stretch of the boundary, or on it) tested against every triangle. A point is inside when it is within
 NGSolve's own tolerance of a triangle (barycentric coordinates above -1e-6), as NGSolve's
 search decides; that search rebuilds its tree whenever the vertices have moved (about
 5 ms for a thousand triangles and 4,500 points, every step). The fields are then
@@ -92,9 +92,11 @@ class PointLocator:
                 break
         missed = np.flatnonzero(element < 0)
         if len(missed):       # outside, unless behind a concave stretch of the boundary
-            polygon = shapely.Polygon(xy[self.loop])
-            missed = missed[shapely.contains_xy(polygon, points[missed, 0],
-                                                points[missed, 1])]
+            polygon = shapely.Polygon(xy[self.loop])    # or on it, within the tolerance
+            edges = np.hypot(*(corners - np.roll(corners, 1, axis=1)).transpose(2, 0, 1))
+            near = shapely.dwithin(polygon, shapely.points(points[missed]),
+                                   TOLERANCE * float(edges.max()))
+            missed = missed[near]
         if len(missed):
             self.searched += len(missed)
             element[missed], lam[missed] = self._search(corners, points[missed])
@@ -111,7 +113,7 @@ class PointLocator:
             p = points[start:start + rows]
             coords = _barycentric(np.broadcast_to(corners, (len(p), *corners.shape)),
                                   p[:, None, :])
-            lowest = coords.min(axis=2)
+            lowest = np.nan_to_num(coords.min(axis=2), nan=-np.inf)   # a flat triangle
             best = np.argmax(lowest, axis=1)
             ok = lowest[np.arange(len(p)), best] >= -TOLERANCE
             element[start:start + rows] = np.where(ok, best, -1)
