@@ -8,11 +8,12 @@ triangle the point was in at the last call, else the one whose centroid is neare
 a k-d tree of the current centroids) across the edge facing the point until the point's
 barycentric coordinates are all non-negative. A point whose walk leaves the mesh is
 outside if it is outside the boundary polygon by more than the tolerance, else (behind a
-concave stretch of the boundary, or on it) tested against every triangle. A point is inside when it is within
-NGSolve's own tolerance of a triangle (barycentric coordinates above -1e-6), as NGSolve's
-search decides; that search rebuilds its tree whenever the vertices have moved (about
-5 ms for a thousand triangles and 4,500 points, every step). The fields are then
-evaluated by NGSolve on one array of mesh points (its compiled evaluation).
+concave stretch of the boundary, or on it) tested against every triangle. A point is
+inside when it is within NGSolve's own tolerance of a triangle (barycentric coordinates
+above -1e-6), as NGSolve's search decides; that search rebuilds its tree whenever the
+vertices have moved (about 5 ms for a thousand triangles and 4,500 points, every step).
+The fields are then evaluated by NGSolve on one array of mesh points (its compiled
+evaluation).
 """
 
 from __future__ import annotations
