@@ -36,6 +36,9 @@ def problems(c: Config) -> Iterator[str]:
                f"allowed: weeks of computing); use {key} >= {t.t_end / MAX_STEPS:.2g}")
     if t.dt_init > t.dt_max:
         yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
+    if t.dt_max_slow is not None and t.dt_max_slow < t.dt_max:
+        yield (f"time.dt_max_slow = {t.dt_max_slow!r} must be at least time.dt_max = "
+               f"{t.dt_max!r} (or none)")
     for x in t.output_times:
         if not 0 < x <= t.t_end:
             yield (f"time.output_times = {fmt_value(t.output_times)}: {x!r} is not in "
@@ -177,13 +180,14 @@ def inert_keys(c: Config) -> dict[str, str]:
             "the layer's law (layer.rheology, else material.rheology) is 'drucker-prager'")
     if t.dt is not None:
         add("time.dt_init time.dt_max time.dt_growth time.error_tol time.error_floor "
-            "numerics.tol_init", "time.dt sets a fixed step")
+            "time.dt_max_slow time.slow_courant numerics.tol_init", "time.dt sets a fixed step")
         if t.adaptive:   # (adaptive = false with a fixed dt says the same thing twice: fine)
             add("time.adaptive", "time.dt sets a fixed step; unset it for adaptive steps")
     elif t.adaptive:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
     else:
-        add("time.error_tol time.error_floor", "time.adaptive = false")
+        add("time.error_tol time.error_floor time.dt_max_slow time.slow_courant",
+            "time.adaptive = false")
     hysteretic = _hysteretic_materials(c)
     if not hysteretic:
         add(" ".join(f"material.{k}" for k in HYSTERESIS_KEYS),
