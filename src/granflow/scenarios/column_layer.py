@@ -133,16 +133,19 @@ class LayerTracking(Outputs):
                 ) -> np.ndarray:
         """``u`` at the points; 0 beyond the meshed layer's end (``mesh.layer_ahead``),
         where the layer is at rest. Each point's search starts from the triangle it was
-        found in at the last step (the points called ``name``)."""
+        found in at the last step (the points called ``name``; the line's points keep
+        their order along it while a few are inserted or dropped each step, so the i-th
+        of n starts from the triangle of the same fraction of the last step's)."""
         out = np.zeros((len(points), u.dim))
         meshed = points[:, 0] <= self.current.mover.end_x
         locator = self.locator()
         guess = self._triangles.get(name)
+        if guess is not None and len(guess) != len(points) and len(guess):
+            guess = guess[np.round(np.linspace(0, len(guess) - 1, len(points))).astype(int)]
         found = np.full(len(points), -1, dtype=np.int64)
         if meshed.any():
             at = points[meshed]
-            element, lam = locator.locate(at, None if guess is None or len(guess) != len(
-                points) else guess[meshed])
+            element, lam = locator.locate(at, None if guess is None else guess[meshed])
             out[meshed] = locator.evaluate(u, at, element, lam)
             found[meshed] = element
         self._triangles[name] = found
