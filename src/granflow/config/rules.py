@@ -36,9 +36,6 @@ def problems(c: Config) -> Iterator[str]:
                f"allowed: weeks of computing); use {key} >= {t.t_end / MAX_STEPS:.2g}")
     if t.dt_init > t.dt_max:
         yield f"time.dt_init = {t.dt_init!r} must not exceed time.dt_max = {t.dt_max!r}"
-    if t.dt_max_slow is not None and t.dt_max_slow < t.dt_max:
-        yield (f"time.dt_max_slow = {t.dt_max_slow!r} must be at least time.dt_max = "
-               f"{t.dt_max!r} (or none)")
     for x in t.output_times:
         if not 0 < x <= t.t_end:
             yield (f"time.output_times = {fmt_value(t.output_times)}: {x!r} is not in "
