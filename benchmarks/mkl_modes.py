@@ -10,9 +10,10 @@ timed from outside (wall time from start to exit, processor time from the operat
 system's account of the finished child) with the load average (1 min) before it. The
 cases: the three default collapses to rest, and ``mesh-20k``, the rigid trapezoid meshed to
 about 20,000 triangles (``mesh.size`` = 0.0027 m) for three steps of 0.1 ms, where
-PARDISO's factorisation is most of an iteration. Prints, per case, the medians and the ratio COMPATIBLE /
-AUTO of the wall and processor times (the median of the rounds' ratios) and whether the two
-modes gave the same run (steps, iterations, runout), and writes OUT/mkl_modes.json.
+PARDISO's factorisation is most of an iteration. Prints, per case, the medians and the
+ratio COMPATIBLE / AUTO of the wall and processor times (the median of the rounds' ratios)
+and whether the two modes gave the same run (steps, iterations, runout), and writes
+OUT/mkl_modes.json.
 """
 
 from __future__ import annotations

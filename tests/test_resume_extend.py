@@ -29,7 +29,8 @@ from granflow.io.run_state import SimulationState
 ERODIBLE = {"mesh.size": 0.05, "geometry.erodible_thickness": 0.02, "mesh.layer_cells": 1,
             "mesh.layer_aspect": 1.0, "numerics.tol": 3e-5, "numerics.anderson_depth": 3,
             "layer.friction_angle_deg": 30.0, "time.t_end": 0.15,
-            "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10}
+            "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10,
+            "time.dt_max_slow": None}          # steps of at most dt_max: the steps above
 KILLED_AT = 110        # a checkpoint before the remeshes
 
 

@@ -357,6 +357,7 @@ class Simulation:
                     f"{self.interrupt} at t = {self.t:.6g} s after step {self.step}")
                 break
             dt, tol = self.steps_policy.propose(self.t)
+            dt = min(dt, self.t_end - self.t)   # a policy restored from a run with another end
             self.attempted_dt = dt
             try:
                 attempt = self._attempt(dt, tol)
