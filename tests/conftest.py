@@ -1,4 +1,7 @@
-"""Shared fixtures: run the ``granflow`` command in a fresh folder."""
+"""Shared fixtures: run the ``granflow`` command in a fresh folder. Every test under
+verification/ compares a solver's results with a reference or a tolerance: it is marked
+``numerics`` (round-off may move its results within their tolerances), and CI runs those
+again with MKL's kernels of the other mode (.ci/run)."""
 
 from __future__ import annotations
 
@@ -21,3 +24,12 @@ def granflow_cli(tmp_path: Path) -> Callable[..., subprocess.CompletedProcess[st
                               capture_output=True, text=True, timeout=timeout, env=env)
 
     return run
+
+
+VERIFICATION = Path(__file__).resolve().parent / "verification"
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        if VERIFICATION in Path(item.path).parents:
+            item.add_marker(pytest.mark.numerics)

@@ -23,6 +23,7 @@ SHORT = {
                            "time.t_end=0.005", "time.output_times=[]"],
     "incline-mu-i": ["mesh.size=0.0025", "time.dt=0.01", "time.t_end=0.05",
                      "time.output_times=[0.05]"],
+    "incline-nonlocal": ["time.t_end=0.05", "time.output_times=[0.05]"],
     "incline-to-floor": ["mesh.size=0.04", "time.t_end=0.01", "time.output_times=[0.01]"],
     "hillslope": ["mesh.size=0.08", "time.t_end=0.01", "time.output_times=[0.01]"],
 }
@@ -62,6 +63,8 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
         with Image.open(out / "plots" / "speed.gif") as gif:   # one image per frame file
             frames = len(list((out / "frames").glob("frame_*.npz")))  # (Pillow merges repeats)
             assert 1 < gif.n_frames <= frames
+    elif scenario == "incline-nonlocal":    # thicker than h_stop: the steady flow is its own
+        assert summary["reference"] == "steady" and summary["reference_note"] is None
     elif scenario in ("incline-to-floor", "hillslope"):     # a mass on a bed profile
         assert summary["volume_relative_error"] < 1e-10
         config = load_config(out / "config.toml")
@@ -75,7 +78,8 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
     finals = sorted(p.name for p in (out / "profiles").glob("*_final.csv"))
     layer = (["erosion_depth_final.csv", "layer_line_final.csv", "layer_markers_final.csv"]
              if "erodible" in scenario else [])
-    assert finals == (["velocity_final.csv"] if scenario in ("plug-flow", "incline-mu-i") else
+    periodic = ("plug-flow", "incline-mu-i", "incline-nonlocal")
+    assert finals == (["velocity_final.csv"] if scenario in periodic else
                       sorted(["free_surface_final.csv", "interface_final.csv",
                               "velocity_sections_final.csv", *layer]))
     if scenario == "trapezoid-rigid":   # t_end is the last output time: the same state

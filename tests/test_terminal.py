@@ -35,6 +35,8 @@ def test_a_short_collapse_prints_only_granflows_lines(tmp_path: Path,
         assert line.startswith(("granflow: ", "drawing the figures into ")) or \
             line in report, f"a line granflow did not print: {line!r}"
     assert report[0] in done.stdout
+    assert str(tmp_path) not in done.stdout, "a path printed absolute among relative ones"
+    assert "drawing the figures into run/plots" in done.stdout
     for line in re.split(r"[\r\n]+", done.stderr):
         assert not line.strip() or line.startswith("granflow: note: ") or \
             PROGRESS.fullmatch(line), f"a line granflow did not print: {line!r}"

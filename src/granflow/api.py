@@ -39,7 +39,7 @@ from granflow.config import (
 )
 from granflow.io import profiles
 from granflow.io.diagnostics import read_diagnostics
-from granflow.io.report import final_lines
+from granflow.io.report import display_path, final_lines
 from granflow.io.run_dir import RunDir, RunDirError
 
 if TYPE_CHECKING:
@@ -279,7 +279,7 @@ def run_case(case: str | Path | Config,
     with run_dir.lock():
         run_dir.write_text("config.toml", config_to_toml(config))
         if log is not None:
-            log(f"granflow: running {label} into {run_dir.root} "
+            log(f"granflow: running {label} into {display_path(run_dir.root)} "
                 f"(sparse LU: {solver_label(config)})")
         summary = run_simulation(config, run_dir, progress=progress and config.output.progress)
     if log is not None:

@@ -36,6 +36,7 @@ from granflow.io.diagnostics import DiagnosticsLog
 from granflow.io.fields import FieldSnapshots
 from granflow.io.frames import INTERVAL_S as ANIMATION_INTERVAL_S
 from granflow.io.frames import AnimationFrames
+from granflow.io.report import display_path
 from granflow.io.run_dir import RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 from granflow.scenarios.registry import Problem, build_problem, draw_figures
@@ -308,7 +309,7 @@ class _Run:
         summary = (_summary_head(self.config, result.status, result.message)
                    | sim.callbacks.summary(result))
         run_dir.write_json("summary.json", summary)
-        self.bar.say(f"drawing the figures into {run_dir.path('plots')}")
+        self.bar.say(f"drawing the figures into {display_path(run_dir.path('plots'))}")
         try:
             draw_figures(run_dir, self.config)
         except Exception as exc:  # a figure must never turn a finished run into a failure

@@ -14,7 +14,8 @@ ROOT = Path(__file__).resolve().parents[2]
 SOURCE = ROOT / "src" / "granflow"
 ENGINES = ("ngsolve", "netgen")
 ENGINE_FREE = ("physics", "config", "simulation", "reference")   # the page's words
-MESHER = "geometry/mesh.py"      # the one module of geometry/ that meshes with Netgen
+# the modules of geometry/ that mesh with Netgen: sections (2D) and solids (3D)
+MESHERS = ["geometry/mesh.py", "geometry/mesh3d.py"]
 
 
 def page_layers() -> list[list[str]]:
@@ -98,12 +99,12 @@ def test_packages_import_one_another_without_a_cycle() -> None:
 
 def test_engine_free_packages_import_no_finite_element_engine() -> None:
     """physics/, config/, simulation/ and reference/ name neither NGSolve nor Netgen in any
-    import; in geometry/ only the mesher does."""
+    import; in geometry/ only the meshers do."""
     users = sorted(str(p.relative_to(SOURCE)) for p in SOURCE.rglob("*.py")
                    if any(name.split(".")[0] in ENGINES for name in imported(p)))
     assert "fem/flow.py" in users                       # the walk sees the engine's users
     assert [f for f in users if f.split("/")[0] in ENGINE_FREE] == []
-    assert [f for f in users if f.startswith("geometry/")] == [MESHER]
+    assert [f for f in users if f.startswith("geometry/")] == MESHERS
 
 
 def test_engine_free_packages_import_with_the_engine_blocked() -> None:

@@ -71,6 +71,7 @@ def test_correction_vanishes_at_the_exact_dual_so_the_fixed_point_is_that_of_3_2
     assert np.abs(applied.FV().NumPy() - rhs.vec.FV().NumPy()).max() > 1e-3 * scale
 
 
+@pytest.mark.numerics
 def test_plug_flow_same_solution_as_the_fixed_point_with_fewer_iterations() -> None:
     """Table 1 cell dZ = 0.125, dt = 3.12e-3 against the 1D reference: at eps = 1e-2 the
     same error as Picard (3.2) to 1e-5 relative (its tolerance) in fewer iterations (575

@@ -48,6 +48,16 @@ def test_the_lines_give_the_results_and_where_the_figures_are(tmp_path: Path,
     assert "not drawn: see runs/r1/plots/error.txt" in final_lines(STOPPED, root)[5]
 
 
+def test_the_volume_line_shows_the_correction_that_made_it_right(tmp_path: Path) -> None:
+    """Restoring the area after each move makes the volume error round-off by
+    construction: the line says how much was restored, in all and net."""
+    corrected = STOPPED | {"area_correction_total": 0.0074096, "area_correction_net": -0.004645}
+    assert final_lines(corrected, tmp_path)[3] == (
+        "  volume error        2.2e-16 after corrections of 0.74 % in all (net -0.46 %)")
+    drifted = STOPPED | {"volume_relative_error": 3.1e-4, "area_correction_total": 0.0}
+    assert final_lines(drifted, tmp_path)[3] == "  volume error        0.00031"
+
+
 def test_a_run_at_rest_ends_its_bar_at_100_percent(capsys: pytest.CaptureFixture) -> None:
     bar = ProgressBar(1.02, enabled=True)
     sim = SimpleNamespace(t=0.0, dt=0.01, last_report=None)

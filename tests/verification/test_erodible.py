@@ -124,22 +124,31 @@ def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -
         ahead.remesher.lengthenings, ahead.remesher.added)
 
 
+@pytest.mark.numerics
 def test_a_layer_stronger_than_the_column_runs_at_a_few_times_its_cost() -> None:
     """A 60-degree layer under the 25.5-degree column (mesh 6 cm, to 0.08 s, the defaults
-    otherwise): the surface tension switches where the column's foot meets the strong
-    layer, each switch restarts the solver's history, and the run costs at most 6 times the
-    one-material run's iterations (measured 631 against 232; 2,297 without the restart;
-    before the iteration was mixed it stalled at steps of 6e-8 s)."""
+    otherwise): what a user relies on is that the run ends, valid, at a few times the
+    one-material run's cost, and that the strong layer moves less than a layer of the
+    column's own material. The surface tension switches where the column's foot meets the
+    strong layer and each switch restarts the solver's history (before the iteration was
+    mixed it stalled at steps of 6e-8 s). How many switches a run makes is the solver's
+    inner path, which rounding changes (3 restarts and 515 iterations against 171 with
+    MKL's reproducible kernels, 1 and 443 with its native ones on one machine), so it is not
+    asserted; the strong layer's displaced area is a tenth of the other's or less (6.3e-6
+    against 6.6e-5 m^2, and 0 with the native kernels)."""
     base = ["mesh.size=0.06", "time.t_end=0.08", "time.output_times=[]"]
-    results = {}
+    problems, results = {}, {}
     for friction in (25.5, 60.0):
-        problem = build_column(load_config(
+        problems[friction] = build_column(load_config(
             "trapezoid-erodible", [*base, f"layer.friction_angle_deg={friction}"]))
-        results[friction] = problem.simulation.run()
+        results[friction] = problems[friction].simulation.run()
         assert results[friction].status == "completed", results[friction].message
     strong, one = results[60.0], results[25.5]
-    assert strong.history_restarts >= 2
+    assert strong.t_final == pytest.approx(0.08)
     assert strong.nonlinear_iterations <= 6 * one.nonlinear_iterations
+    held, moved = (problems[f].layer.measures()["layer_displaced_area"] for f in (60.0, 25.5))
+    assert signed_areas(problems[60.0].mesh).min() > 0
+    assert held < 0.5 * moved, (held, moved)
 
 
 def test_the_mover_reports_a_switch_of_the_tension_against_the_accepted_step() -> None:

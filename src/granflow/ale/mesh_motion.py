@@ -18,7 +18,7 @@ from granflow.simulation.outcomes import MoveFailure
 
 
 def vertex_values(field: ngs.GridFunction) -> np.ndarray:
-    """(nv, 2) vertex values of a P2 vector GridFunction (vertex dofs come first)."""
+    """(nv, dim) vertex values of a P2 vector GridFunction (vertex dofs come first)."""
     nv = field.space.mesh.nv
     return np.column_stack([c.vec.FV().NumPy()[:nv] for c in field.components])
 
@@ -97,7 +97,7 @@ class ElasticMeshVelocity(_LinearMeshVelocity):
     def __init__(self, mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
                  target: ngs.GridFunction, penalty: float, solver: str = "umfpack") -> None:
         w, v = target.space.TnT()
-        n = ngs.specialcf.normal(2)
+        n = ngs.specialcf.normal(mesh.dim)
         a = ngs.BilinearForm(target.space, symmetric=True)
         a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
         a += penalty * (w * n) * (v * n) * ngs.ds
@@ -116,7 +116,7 @@ class LagrangeMeshVelocity(_LinearMeshVelocity):
                  target: ngs.GridFunction, penalty: float, solver: str = "umfpack") -> None:
         space = target.space * ngs.H1(mesh, order=2)
         (w, p), (v, q) = space.TnT()
-        n = ngs.specialcf.normal(2)
+        n = ngs.specialcf.normal(mesh.dim)
         a = ngs.BilinearForm(space)
         a += ngs.InnerProduct(ngs.Sym(ngs.Grad(w)), ngs.Sym(ngs.Grad(v))) * ngs.dx
         a += (1.0 / penalty) * p * q * ngs.dx

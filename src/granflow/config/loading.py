@@ -5,6 +5,8 @@ Layers, each overriding the one before (pyro2-style):
 1. package defaults, ``granflow/defaults.toml`` (the one place where defaults live);
 2. a scenario: a built-in name, or a TOML file, which may start from a built-in one with a
    top-level ``scenario = "NAME"``;
+   a material preset (``material.preset``, ``layer.preset``) sets its constants over the
+   layers below the one that names it (``presets.py``);
 3. overrides: ``--set section.key=value`` texts, the value read as a TOML literal
    (``1e-4``, ``true``, ``[0.1, 0.2]``, ``"newton"``) or else as a bare string; or, from
    Python, a mapping ``{"section.key": value}`` of Python values.
@@ -33,6 +35,7 @@ from pydantic_core import PydanticCustomError
 
 from granflow.config.kinds import KIND_RULES, absolute_paths, anchor_paths, rules_of
 from granflow.config.messages import fmt_value, note, one_line
+from granflow.config.presets import apply_presets, changed_keys, mixed_constants, user_keys
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
 from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
@@ -109,7 +112,10 @@ def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
     explicit = "output_times" in layers[-1].get("time", {}) if from_file else False
     keys = _apply(data, overrides)
     data["scenario"] = name
-    return _resolve(data, base, explicit or "time.output_times" in keys)
+    apply_presets(data, base, user_keys(layers, keys))
+    user = set(keys) | ({f"{s}.{k}" for s, t in layers[-1].items() if isinstance(t, dict)
+                         for k in t} if from_file else set())
+    return _resolve(data, base, explicit or "time.output_times" in keys, user)
 
 
 def apply_overrides(config: Config, overrides: Overrides) -> Config:
@@ -118,12 +124,15 @@ def apply_overrides(config: Config, overrides: Overrides) -> Config:
     data = config.model_dump()
     base = copy.deepcopy(data)
     keys = _apply(data, overrides)
-    return _resolve(data, base, "time.output_times" in keys)
+    apply_presets(data, base, changed_keys(config, keys))
+    return _resolve(data, base, "time.output_times" in keys, set(keys))
 
 
-def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -> Config:
-    """The one validation path of every interface: ``data`` (the layers and overrides
-    merged) against ``base`` (what the keys would be without the user's settings)."""
+def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool,
+             user: set[str]) -> Config:
+    """The one validation path of every interface: ``data`` (the layers, the presets and
+    the overrides merged) against ``base`` (what the keys would be without the user's
+    settings, ``user``: the "section.key" names they set)."""
     dropped = _drop_late_outputs(data, explicit_times)
     absolute_paths(data)
     name = data["geometry"].get("kind")
@@ -146,6 +155,8 @@ def _resolve(data: dict[str, Any], base: dict[str, Any], explicit_times: bool) -
                               "of them")
         data["mesh"]["size"] = size      # the resolution follows the column
         config = _validate(data)
+    for line in mixed_constants(config, user):
+        note(line)
     if dropped:
         note(f"time.output_times {fmt_value(dropped)} of the scenario come after "
              f"time.t_end = {config.time.t_end:g} s and are not written (set "

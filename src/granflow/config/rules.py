@@ -156,7 +156,8 @@ def inert_keys(c: Config) -> dict[str, str]:
             "it is a parameter of mu(I), and material.rheology = 'drucker-prager'"
             + (" (the layer's too)" if erodible else ""))
     elif c.material.rheology == "nonlocal" and layer_law == "nonlocal":
-        add("material.mu_2_deg material.i0", "it is a parameter of mu(I), and "
+        # (mu_2_deg is read: the nonlocal law holds material at rest up to mu_2)
+        add("material.i0", "it is a parameter of mu(I), and "
             "material.rheology = 'nonlocal' (whose local law is mu_s + b I)")
     nonlocal_ = _nonlocal_materials(c)
     if "material" not in nonlocal_:

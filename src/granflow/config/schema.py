@@ -117,7 +117,11 @@ def _int_field(model: type[BaseModel], key: str) -> bool:
         get_origin(a) is Annotated and get_args(a)[0] is int for a in get_args(tp))
 
 
+PresetName = Literal["glass-beads"]     # physics/presets.py: PRESETS
+
+
 class Material(_Section):
+    preset: PresetName | None  # every constant of a named material, for the law it runs with
     density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
@@ -153,6 +157,7 @@ class Layer(_Section):
     """The erodible layer's own material; every key left "none" is [material]'s (one
     material everywhere, today's runs). Gravity is [material]'s."""
 
+    preset: PresetName | None  # the layer's constants from a named material
     density: Annotated[float, Field(ge=1, le=1e5)] | None  # rho of the layer (packing)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)] | None  # eta (Pa s)
     friction_angle_deg: Angle | None  # delta of the layer, mu_s = tan(delta)

@@ -11,12 +11,20 @@ from granflow.fem.sampling import point_values
 
 
 def reference_field(mesh: ngs.Mesh, z: np.ndarray, u: np.ndarray) -> ngs.CoefficientFunction:
-    """(U_ref(Z), 0) as a coefficient function: the 1D profile extended in x (section 4)."""
-    x0, x1 = float(np.min(mesh.ngmesh.Coordinates()[:, 0])), float(
-        np.max(mesh.ngmesh.Coordinates()[:, 0]))
-    table = np.ascontiguousarray(np.tile(np.asarray(u, dtype=float)[:, None], (1, 2)))
-    profile = ngs.VoxelCoefficient((x0, float(z[0])), (x1, float(z[-1])), table, linear=True)
-    return ngs.CF((profile, 0.0))
+    """(U_ref(Z), 0) as a coefficient function: the 1D profile extended in x (section 4);
+    in 3D (U_ref(Z), 0, 0), extended in x and y."""
+    xyz = mesh.ngmesh.Coordinates()
+    if len(xyz) == 0:     # an MPI rank that holds no element (rank 0 in NGSolve's layout)
+        xyz = np.array([[0.0] * mesh.dim, [1.0] * mesh.dim])
+    low, high = xyz.min(axis=0)[:-1], xyz.max(axis=0)[:-1]     # the box across Z
+    across = (1,) * (mesh.dim - 1)
+    shape = (len(z), *(2,) * (mesh.dim - 1))     # the voxel table's axes: Z, then Y, X
+    table = np.ascontiguousarray(np.broadcast_to(
+        np.asarray(u, dtype=float).reshape(len(z), *across), shape))
+    start = (*(float(v) for v in low), float(z[0]))
+    end = (*(float(v) for v in high), float(z[-1]))
+    profile = ngs.VoxelCoefficient(start, end, table, linear=True)
+    return ngs.CF((profile, *(0.0,) * (mesh.dim - 1)))
 
 
 def velocity_errors_l2(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,

@@ -46,8 +46,9 @@ def tangential(u: ngs.CoefficientFunction, n: ngs.CoefficientFunction) -> ngs.Co
 # The quadrature of the viscoplastic term, fixed so that Picard and Newton integrate the
 # same discrete law: NGSolve would pick order 2 (3 points) for the Picard form, where the
 # coefficient is a known field, and order 4 for Newton's, where it depends on the unknown.
-# Order 2 is what the verified runs (docs/verification.md) used.
-VISCOPLASTIC_RULES = {ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 2)}
+# Order 2 is what the verified runs (docs/verification.md) used; tetrahedra (3D) alike.
+VISCOPLASTIC_RULES = {ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 2),
+                      ngs.TET: ngs.IntegrationRule(ngs.TET, 2)}
 # In r-z the integrand r Du : Dv has degree 3 plus the hoop part u_r v_r / r: the 3-point
 # rule leaves the viscous matrix singular (tests/verification/test_axisymmetric_stokes.py),
 # a 6-point rule of order 4 does not.
@@ -190,7 +191,7 @@ class BodyForce:
     """rho f . v on the right-hand side: gravity in the bed frame (2.1a)."""
 
     density: float | ngs.CoefficientFunction
-    force: tuple[float, float]
+    force: tuple[float, ...]             # (X, Z), or (X, Y, Z) in 3D
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None:
         return None
@@ -316,7 +317,7 @@ class SurfaceTraction:
 
 def momentum_terms(*, density: float | ngs.CoefficientFunction, inertia: Term,
                    mesh_velocity: ngs.CoefficientFunction, rheology: Rheology,
-                   body_force: tuple[float, float], walls: Sequence[FrictionWall] = (),
+                   body_force: tuple[float, ...], walls: Sequence[FrictionWall] = (),
                    penalty: float = 0.0,
                    surface_traction: SurfaceTraction | None = None,
                    side_walls: SideWallFriction | None = None,

@@ -14,6 +14,10 @@ import ngsolve as ngs
 from pyngcore import Flags
 
 SOLVERS = ("auto", "umfpack", "pardiso")
+# NGSolve's direct solver of a matrix distributed over MPI ranks: gathered on rank 0 and
+# factorised there (benchmarks/three_d_solvers.py). It has no numeric refactorisation:
+# each update factorises afresh.
+MASTER_INVERSE = "masterinverse"
 # No iterative refinement of each PARDISO solve (NGSolve's configuration allows it): on the
 # column systems it took most of a solve's time and left the residual at round-off either
 # way. MKL still refines when the factorisation perturbed a pivot (iparm[7] = 0, MKL manual).
@@ -39,6 +43,11 @@ def pardiso_available() -> bool:
     except Exception:  # NGSolve raises a plain exception when MKL cannot be loaded
         return False
     return True
+
+
+def distributed(mesh: ngs.Mesh) -> bool:
+    """Whether ``mesh`` is one part of a mesh distributed over several MPI ranks."""
+    return mesh.comm.size > 1
 
 
 def direct_solver(choice: str = "auto") -> str:
@@ -81,7 +90,7 @@ class ReusableLU:
 
     def update(self) -> None:
         """Refactorise after the form was reassembled."""
-        if self._inverse is None:
+        if self._inverse is None or self._solver == MASTER_INVERSE:
             flags = None
             if self._solver == "pardiso":
                 large = self._freedofs.NumSet() >= METIS_FROM_UNKNOWNS

@@ -18,6 +18,10 @@ d_z u_z. On the axis u_r = 0 (imposed strongly on the velocity space, ``axis_reg
 quadrature points lie inside the triangles, never on r = 0, so u_r / r is always finite.
 Convection (u . grad) u, gravity and the boundary terms keep their plane form, weighted.
 
+Three dimensions, coordinates (x, y, z) with z normal to the bed: the plane expressions
+carry over unchanged (dx over the body, Du 3 x 3 from the 3D gradient, div u the full
+divergence); only the amounts (m^3, J) and the bed-normal coordinate (z, not y) differ.
+
 The terms of (3.2) (``fem/forms.py``), the divergence-free transfer after a remesh
 (``ale/transfer.py``) and the integrated diagnostics take their measure, strain rate and
 divergence from a ``Coordinates``; in plane strain they are the plane expressions alone
@@ -38,7 +42,13 @@ from granflow.geometry.section import TWO_PI, Section
 
 @dataclass(frozen=True)
 class Coordinates(Section):
-    """Plane strain (``axisymmetric=False``) or axisymmetric r-z coordinates."""
+    """Plane strain (``axisymmetric=False``), axisymmetric r-z coordinates, or the three
+    Cartesian coordinates of a 3D body (``dimension = 3``)."""
+
+    @property
+    def bed_normal(self) -> ngs.CoefficientFunction:
+        """The coordinate normal to the bed: z in 3D, the section's second (y) in 2D."""
+        return ngs.z if self.dimension == 3 else ngs.y
 
     def dx(self, integrand: ngs.CoefficientFunction, **kwargs: Any) -> ngs.SumOfIntegrals:
         """integrand dx over the section, times r in axisymmetry."""
@@ -90,7 +100,8 @@ class Coordinates(Section):
     def integrate(self, integrand: ngs.CoefficientFunction, mesh: ngs.Mesh,
                   order: int | None = None) -> float:
         """The integral over the body: per metre of width in plane strain (m^2 for 1), over
-        the solid of revolution in axisymmetry (2 pi r weight; m^3 for 1). ``order``: the
+        the solid of revolution in axisymmetry (2 pi r weight; m^3 for 1), over the body in
+        3D (m^3 for 1). ``order``: the
         quadrature order (NGSolve's default when None; one more for the weight r)."""
         if not self.axisymmetric:
             if order is None:
@@ -104,6 +115,7 @@ class Coordinates(Section):
 
 PLANE = Coordinates(axisymmetric=False)
 AXISYMMETRIC = Coordinates(axisymmetric=True)
+SPACE = Coordinates(axisymmetric=False, dimension=3)
 
 
 def coordinates_of(geometry: Any) -> Coordinates:

@@ -60,9 +60,16 @@ def revolved_volume_gradient(xy: np.ndarray, segments: np.ndarray) -> np.ndarray
 class Section:
     """Plane strain (``axisymmetric=False``): amounts are areas of the section, per metre
     of width; axisymmetric: volumes of the solid of revolution (what an incompressible
-    axisymmetric flow conserves, not the section's area)."""
+    axisymmetric flow conserves, not the section's area); ``dimension = 3``: the body
+    itself, volumes in m^3 (the section's amounts below refuse it)."""
 
     axisymmetric: bool = False
+    dimension: int = 2
+
+    @property
+    def volumetric(self) -> bool:
+        """Whether amounts are volumes (of revolution, or of a 3D body), not areas."""
+        return self.axisymmetric or self.dimension == 3
 
     # --- names and units of the outputs ------------------------------------------------
     @property
@@ -73,22 +80,22 @@ class Section:
     @property
     def amount(self) -> str:
         """What is conserved and reported: "volume" (of revolution) or "area"."""
-        return "volume" if self.axisymmetric else "area"
+        return "volume" if self.volumetric else "area"
 
     @property
     def unit(self) -> str:
         """The amount's unit in summary.json member names: m3, or m2 per metre."""
-        return "m3" if self.axisymmetric else "m2"
+        return "m3" if self.volumetric else "m2"
 
     @property
     def amount_label(self) -> str:
         """The amount's unit for an axis label."""
-        return "m^3" if self.axisymmetric else "m^2 per m"
+        return "m^3" if self.volumetric else "m^2 per m"
 
     @property
     def energy_unit(self) -> str:
         """Kinetic energy of the whole body (J) or per metre of width (J/m)."""
-        return "J" if self.axisymmetric else "J/m"
+        return "J" if self.volumetric else "J/m"
 
     @property
     def note(self) -> str:
@@ -96,9 +103,15 @@ class Section:
         return " (axisymmetric: r from the axis)" if self.axisymmetric else ""
 
     # --- amounts -------------------------------------------------------------------------
+    def _section_only(self) -> None:
+        """The amounts below measure a 2D section; a 3D body's are its tetrahedra's."""
+        if self.dimension != 2:
+            raise ValueError("a section's amount asked of a 3D body (dimension = 3)")
+
     def triangles(self, areas: np.ndarray, centroid_r: np.ndarray) -> float:
         """The amount of straight-edged triangles of the given areas: their area, or
         2 pi sum(area x centroid radius), exact for triangles (Pappus)."""
+        self._section_only()
         if not self.axisymmetric:
             return float(np.sum(areas))
         return float(TWO_PI * np.sum(areas * centroid_r))
@@ -106,6 +119,7 @@ class Section:
     def region(self, shape: Any) -> float:
         """The amount of a region of the section (a shapely geometry): its area, or
         2 pi A r_centroid (Pappus)."""
+        self._section_only()
         if not self.axisymmetric:
             return float(shape.area)
         return 0.0 if shape.is_empty else TWO_PI * shape.area * shape.centroid.x
@@ -113,16 +127,19 @@ class Section:
     def weights(self, r: np.ndarray, area: float) -> np.ndarray:
         """The amount each point at distance ``r`` from the axis stands for when it
         represents ``area`` of the section: the area, or the ring 2 pi r area."""
+        self._section_only()
         if not self.axisymmetric:
             return np.full(len(r), area)
         return TWO_PI * r * area
 
     def polygon(self, xy: np.ndarray, segments: np.ndarray) -> float:
         """The amount enclosed by the oriented boundary segments."""
+        self._section_only()
         return revolved_volume(xy, segments) if self.axisymmetric else polygon_area(xy, segments)
 
     def polygon_gradient(self, xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
         """d(``polygon``)/d(vertex position)."""
+        self._section_only()
         if self.axisymmetric:
             return revolved_volume_gradient(xy, segments)
         return area_gradient(xy, segments)

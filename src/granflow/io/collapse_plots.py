@@ -130,15 +130,15 @@ def plot_collapse(run_dir: RunDir, config: Any, drawn: Drawn) -> None:
 
 
 def _free_surfaces(view: View) -> None:
-    fig, ax = plt.subplots(figsize=(8, 3.2))
+    fig, ax = plt.subplots(figsize=(9.5, 3.2), layout="constrained")
     _draw_bed(view, ax)
     ax.plot(*view.outline.T, "--", color="0.6", lw=0.8, label="t = 0")
     for t in view.times:
         prof = profiles.profile_at(view.run_dir.root, "free_surface", t)
         ax.plot(prof["x"], prof["z"], color=view.colours[t], label=view.label(t))
-    if view.final is not None:
+    if view.final is not None:      # dashed: an output time at rest shows through it
         ax.plot(view.final.surface["x"], view.final.surface["z"], color="k", lw=1.3,
-                label=view.final.label)
+                ls=(0, (4, 2)), label=view.final.label)
     ax.set(xlabel=f"{view.x} (m)", ylabel="z (m)", title=f"Free surface{view.bed}",
            aspect=view.aspect(ax.dataLim.intervalx[1]))
     _legend(ax)
@@ -204,9 +204,13 @@ def _zones(view: View) -> None:
         lowest.set_xlabel(f"{view.x} (m)")
     for ax in axes[:, 0]:
         ax.set_ylabel("z (m)")
+    # the speed is resolved by the cells: its 1 mm/s level, read from the vertex values,
+    # steps with the mesh (so does the finite-element field's own, sampled finely)
+    cell = f"{100 * view.config.mesh.size:.2g} cm"
     handles = [Patch(color=STATIC, label="static, |u| < 1 mm/s"),
                Patch(color=FLOWING, label="flowing"),
-               Line2D([], [], color="tab:red", label="interface, |u| = 1 mm/s"),
+               Line2D([], [], color="tab:red",
+                      label=f"interface, |u| = 1 mm/s: resolved to a cell ({cell})"),
                Line2D([], [], color="0.6", ls="--", label="t = 0")]
     fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8,
                frameon=False)
@@ -241,7 +245,7 @@ def _sections(view: View) -> None:
                        ha="left", va="top", fontsize=9, weight="bold")
     where.set(xlabel=f"{view.x} (m)", ylabel="z (m)", aspect=view.aspect(
         where.dataLim.intervalx[1]), title=f"Where the sections are{view.bed}")
-    where.legend(fontsize=7, loc="upper right", ncols=2)
+    _legend(where)
     first = None
     for j, xs in enumerate(offsets):
         top = fig.add_subplot(grid[1, j], sharey=first)
@@ -299,8 +303,9 @@ def _history(view: View) -> None:
             a.axvline(stop, color="k", lw=0.9, ls="--")
         handles.append(Line2D([], [], color="k", lw=0.9, ls="--",
                               label=f"at rest from t = {stop:.3f} s"))
-    if handles:
-        a2.legend(handles=handles, fontsize=7, loc="upper right")
+    if handles:      # below the panels, off the curves
+        fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 3),
+                   fontsize=7, frameon=False)
     view.fmt.save(fig, view.run_dir, "front_and_energy")
 
 
@@ -313,5 +318,6 @@ def _bed_note(slope_deg: float, section: Section) -> str:
 
 
 def _legend(ax: plt.Axes) -> None:
+    """The legend beside the axes, on the right: never over a curve."""
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)

@@ -2,7 +2,7 @@
 registers every law with ``laws.py`` (each at the end of its module)."""
 
 from granflow.physics.friction import CoulombFriction, SideWallFriction
-from granflow.physics.gravity import gravity_vector
+from granflow.physics.gravity import gravity_vector, gravity_vector_3d
 from granflow.physics.hysteresis import Hysteretic
 from granflow.physics.mu_i import MuI
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
@@ -10,4 +10,5 @@ from granflow.physics.ops import NUMPY_OPS, Ops
 from granflow.physics.rheology import DruckerPrager, Rheology
 
 __all__ = ["NUMPY_OPS", "CoulombFriction", "DruckerPrager", "Hysteretic", "MuI",
-           "NonlocalFluidity", "Ops", "Rheology", "SideWallFriction", "gravity_vector"]
+           "NonlocalFluidity", "Ops", "Rheology", "SideWallFriction", "gravity_vector",
+           "gravity_vector_3d"]

@@ -1,0 +1,119 @@
+"""The prototype ALE move of a 3D column in a channel (ale/channel_mover.py): the mesh
+velocity (3.6) in the volume, vertices held on the bounding planes, deposition on the bed,
+and a new volume mesh from the moved surface."""
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+from granflow.ale.channel_mover import (
+    ChannelMover,
+    ChannelPlanes,
+    deposit,
+    remesh_from_surface,
+    signed_volumes,
+    surface_triangles,
+    surface_volume_gradient,
+)
+from granflow.geometry.domains import column
+from granflow.geometry.mesh3d import channel_column_mesh
+
+W, RATE = 0.1, 5.0      # channel width (m), strain rate of the test flow (1/s)
+
+
+@pytest.fixture(scope="module")
+def meshed() -> ngs.Mesh:
+    return channel_column_mesh(column("rectangle", 0.2, 0.14), W, 0.03, half=True)
+
+
+@pytest.fixture
+def mesh(meshed: ngs.Mesh) -> ngs.Mesh:
+    """A copy each test may move (Netgen meshes once per module)."""
+    return ngs.Mesh(meshed.ngmesh.Copy())
+
+
+def strained(mesh: ngs.Mesh, dt: float, steps: int) -> ChannelMover:
+    """Move ``mesh`` by the divergence-free strain u = RATE (x, 0, -z), carried by the
+    nodes as a flow velocity is (3.1)."""
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
+    u.Set(RATE * ngs.CF((ngs.x, 0.0, -ngs.z)))
+    mover = ChannelMover(mesh, u, ChannelPlanes(W, half=True))
+    for _ in range(steps):
+        assert mover.move(dt) is None
+    return mover
+
+
+def test_netgen_tetrahedra_have_positive_signed_volumes(mesh: ngs.Mesh) -> None:
+    volumes = signed_volumes(mesh)
+    assert volumes.min() > 0
+    assert volumes.sum() == pytest.approx(0.2 * 0.14 * W / 2, rel=1e-12)
+
+
+def test_the_mesh_follows_the_nodes_velocity_on_its_planes(mesh: ngs.Mesh) -> None:
+    """Each vertex moves by t u(X0): the box (0.2, W/2, 0.14) becomes (0.2 (1 + c t), W/2,
+    0.14 (1 - c t)), its volume V0 (1 - (c t)^2); the bed, back wall, side wall and symmetry
+    plane keep their vertices."""
+    v0 = float(np.sum(signed_volumes(mesh)))
+    mover = strained(mesh, 0.005, 10)
+    ct = RATE * 0.05
+    assert mover.volume() == pytest.approx(v0 * (1 - ct) * (1 + ct), rel=1e-6)
+    xyz = mesh.ngmesh.Coordinates()
+    assert xyz.min(axis=0) == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+    assert xyz.max(axis=0) == pytest.approx([0.2 * (1 + ct), W / 2, 0.14 * (1 - ct)],
+                                            rel=1e-6)
+
+
+def test_an_inverting_move_is_refused_and_undone(mesh: ngs.Mesh) -> None:
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
+    u.Set(ngs.CF((0.0, 0.0, -ngs.z * ngs.x * 1e3)))
+    mover = ChannelMover(mesh, u, ChannelPlanes(W, half=True))
+    before = mesh.ngmesh.Coordinates().copy()
+    assert mover.move(1.0) is not None
+    assert np.array_equal(mesh.ngmesh.Coordinates(), before)
+
+
+def test_surface_triangles_on_the_bed_become_bed(mesh: ngs.Mesh) -> None:
+    tri, labels = surface_triangles(mesh)
+    top = tri[labels == "surface"][0]
+    mesh.ngmesh.Coordinates()[top, 2] = 0.0        # one surface triangle lands
+    assert deposit(mesh) == 1
+    tri, labels = surface_triangles(mesh)
+    assert labels[np.all(np.sort(tri, axis=1) == np.sort(top), axis=1)][0] == "bed"
+
+
+def test_a_new_volume_mesh_from_the_moved_surface(mesh: ngs.Mesh) -> None:
+    """The new mesh fills the moved surface (the same volume, labelled areas, boundary
+    triangles) with positive tetrahedra; a velocity transferred onto it is the same field."""
+    mover = strained(mesh, 0.01, 5)
+    new = remesh_from_surface(mesh, 0.03)
+    assert signed_volumes(new).min() > 0
+    assert ngs.Integrate(ngs.CF(1.0), new) == pytest.approx(mover.volume(), rel=1e-12)
+    for label in ("bed", "wall", "surface", "side", "symmetry"):
+        old = ngs.Integrate(ngs.CF(1.0), mesh, definedon=mesh.Boundaries(label))
+        assert ngs.Integrate(ngs.CF(1.0), new,
+                             definedon=new.Boundaries(label)) == pytest.approx(old, rel=1e-12)
+    carried = ngs.GridFunction(ngs.VectorH1(new, order=2))
+    carried.Set(mover.velocity)
+    difference = carried - mover.velocity
+    assert ngs.Integrate(difference * difference, new) < 1e-20
+
+
+def test_the_volume_correction_keeps_the_initial_volume(mesh: ngs.Mesh) -> None:
+    """The strain that shrinks the box by 6.25 % in 0.05 s, with the correction on: the
+    volume stays the initial one (to 1e-10), the planes keep their vertices, no tetrahedron
+    inverts; the boundary's gradient of the volume is the volume's own."""
+    xyz = mesh.ngmesh.Coordinates()
+    shift = np.zeros_like(xyz)
+    shift[:, 2] = 1e-7 * xyz[:, 2]      # stretch Z by 1e-7: dV = 1e-7 V
+    gradient = surface_volume_gradient(mesh)
+    v0 = float(np.sum(signed_volumes(mesh)))
+    assert np.sum(gradient * shift) == pytest.approx(1e-7 * v0, rel=1e-6)
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
+    u.Set(RATE * ngs.CF((ngs.x, 0.0, -ngs.z)))
+    mover = ChannelMover(mesh, u, ChannelPlanes(W, half=True), conserve_volume=True)
+    for _ in range(10):
+        assert mover.move(0.005) is None
+    assert mover.volume() == pytest.approx(v0, rel=1e-10)
+    xyz = mesh.ngmesh.Coordinates()
+    assert xyz.min(axis=0) == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+    assert xyz[:, 1].max() == pytest.approx(W / 2, rel=1e-12)
