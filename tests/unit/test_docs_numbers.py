@@ -86,6 +86,19 @@ def _cylinders(select: Callable[[float], bool], quantity: str = "runout") -> Cal
     return values
 
 
+ERODIBLE_SPEED = "erodible_speed/erodible_speed.json"
+
+
+def _stop(comparison: str, run: str, which: int) -> Callable[[Any], float]:
+    """A run's rest-rule stop time in a comparison of two codes (0: before, 1: after)."""
+    return lambda d: d[comparison][run]["counts"]["stop_time_s"][which]
+
+
+def _stop_change(comparison: str, run: str) -> Callable[[Any], float]:
+    """How much (in %) a run's rest-rule stop time moved in a comparison."""
+    return lambda d: 100 * (_stop(comparison, run, 1)(d) / _stop(comparison, run, 0)(d) - 1)
+
+
 CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     # page, text, results file, JSON path (or a function of the JSON), format, scale
     # --- the paper's algorithm (benchmarks/speed.py case A) and the fast path (B)
@@ -263,6 +276,21 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _late_step_cost, ".0f", 1),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
+    # --- the erodible bed on the user's clock (benchmarks/erodible_speed.py and py-spy)
+    ("docs/performance.md", "the tracking fell from {} % to",
+     "profile_shares/trapezoid-erodible-284e367.json", "shares.erodible layer tracking",
+     ".1f", 100),
+    ("docs/performance.md", "% to {} % of the process; a flow over a layer",
+     "profile_shares/trapezoid-erodible-cc22b00.json", "shares.erodible layer tracking",
+     ".1f", 100),
+    ("docs/performance.md", "rest rule from {} to", ERODIBLE_SPEED,
+     _stop("base-vs-head", "trapezoid-rigid", 0), ".4f", 1),
+    ("docs/performance.md", "to {} s.\n\nThe remeshes are not yet", ERODIBLE_SPEED,
+     _stop("base-vs-head", "trapezoid-rigid", 1), ".4f", 1),
+    ("docs/performance.md", "[The time integrator](#the-time-integrator) (1 and {} mm)",
+     ERODIBLE_SPEED, "criteria.surface_max_mm", ".0f", 1),
+    ("docs/performance.md", "The cylinder's rest rule moves by {} %: it is decided",
+     ERODIBLE_SPEED, _stop_change("head-vs-slow", "cylinder-erodible"), ".0f", 1),
 ]
 
 
