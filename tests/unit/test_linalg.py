@@ -53,7 +53,7 @@ def test_column_system_solved_to_round_off(solver: str,
 
 def test_mkl_runs_the_cpus_kernels_unless_asked_for_reproducible_ones() -> None:
     """PARDISO runs MKL's own choice of kernels for the CPU (the fastest: the reproducible
-    SSE2 ones cost 38 % more processor time on a 20,000-triangle mesh, docs/performance.md,
+    SSE2 ones cost 47 % more processor time on a 20,000-triangle mesh, docs/performance.md,
     Reproducibility), and ``MKL_CBWR=COMPATIBLE``, the documented switch, gives the
     kernels that round alike on every x86-64 CPU. Checked in fresh processes, as a user
     starts one."""
