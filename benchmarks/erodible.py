@@ -23,7 +23,7 @@ from common.results import read_results, report, write_json
 
 import granflow
 from granflow.config import load_config
-from granflow.diagnostics.compare import surface_distance
+from granflow.geometry.polylines import surface_distance
 from granflow.io import profiles
 from granflow.io.plots import save_figure
 

@@ -27,7 +27,14 @@ from pathlib import Path
 import ngsolve as ngs
 
 from granflow.ale.channel_mover import ChannelMover, ChannelPlanes
-from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import (
+    Discretisation,
+    FlowSpec,
+    GivenLaw,
+    SolverChoice,
+    Terms,
+    build_flow,
+)
 from granflow.fem.forms import FrictionWall
 from granflow.fem.measure import SPACE
 from granflow.geometry.domains import column
@@ -55,9 +62,10 @@ def main(argv: list[str] | None = None) -> int:
              in ((BED, 25.5), (WALL, 10.2), (SIDE, 10.2), (SYMMETRY, 0.0))]
     force = gravity_vector_3d(9.81, 0.0)
     law = DruckerPrager(viscosity=1.0, friction_angle_deg=25.5, eps=1e-6)
-    solver = FlowSolver(mesh, rheology=law, density=RHO, body_force=force, walls=walls,
-                        penalty=1e12, linearization="picard", linear_solver="umfpack",
-                        coordinates=SPACE)
+    solver = build_flow(mesh, FlowSpec(GivenLaw(law, RHO),
+                                       Terms(force, walls=tuple(walls), penalty=1e12),
+                                       Discretisation(SPACE),
+                                       SolverChoice("picard", linear_solver="umfpack")))
     solver.set_state(ngs.CF((0.0, 0.0, 0.0)), -RHO * force[2] * (HEIGHT - ngs.z))
     mover = ChannelMover(mesh, solver.previous.components[0], ChannelPlanes(CHANNEL, True),
                          conserve_volume=args.conserve_volume)

@@ -39,10 +39,12 @@ def _bounds(annotation: Any, metadata: list[Any]) -> tuple[Any, dict[str, float]
     tp = annotation
     while True:
         origin = get_origin(tp)
-        if origin in (Union, type(int | None)):
+        if origin in (Union, type(int | None)):   # a number, or none, or words
             args = [a for a in get_args(tp) if a is not NoneType]
-            if len(args) != 1:
+            numbers = [a for a in args if get_origin(a) is not Literal]
+            if len(args) != 1 and len(numbers) != 1:
                 return tp, bounds
+            args = args if len(args) == 1 else numbers
             tp = args[0]
         elif origin is Annotated:
             metadata = [*metadata, *tp.__metadata__]
@@ -295,6 +297,46 @@ def test_a_subnormal_value_is_refused_by_the_keys_own_bound(section: str, key: s
     where = WHERE_EFFECTIVE.get(section, ["plug-flow" if key == "length" else
                                           "trapezoid-rigid"])
     check_refused(["run", *where, "--set", f"{section}.{key}={value}"])
+
+
+# a law's keys refused where the law is on (elsewhere they are refused as keys without
+# effect): 5e-324 passed each of them once, as it did gate.tau and numerics.al_r
+WITH_THE_LAW = {
+    "i0": ["--set", "material.rheology=mu-i"],
+    "nonlocal_b": ["--set", "material.rheology=nonlocal", "--set",
+                   "material.friction_angle_deg=20.9"],
+    "mobilisation_time": ["--set", "material.friction=hysteretic"],
+    "rest_time": ["--set", "material.friction=hysteretic"],
+}
+
+
+@pytest.mark.parametrize("section", ["material", "layer"])
+@pytest.mark.parametrize("key", sorted(WITH_THE_LAW))
+def test_a_subnormal_law_key_is_refused_where_the_law_is_on(section: str, key: str) -> None:
+    law = WITH_THE_LAW[key]
+    check_refused(["run", "trapezoid-erodible", *law, "--set", f"{section}.{key}=5e-324"])
+
+
+@pytest.mark.parametrize("args", [
+    ["run", "trapezoid-rigid", "--set", "gate.enabled=true", "--set",
+     "gate.speed_law=exponential", "--set", "gate.tau=5e-324"],
+    ["run", "rectangle-rigid", "--set", "numerics.method=augmented-lagrangian", "--set",
+     "numerics.al_r=5e-324"],
+    *[["run", scenario, "--set", "geometry.erodible_thickness=5e-324"]
+      for scenario in ("trapezoid-erodible", "trapezoid-rigid", "cylinder-erodible")],
+], ids=["gate-tau", "al-r", "layer-erodible", "layer-rigid", "layer-cylinder"])
+def test_the_probes_last_subnormal_values_are_one_line(args: list[str]) -> None:
+    """A layer 5e-324 m thick divided by zero while its triangles were counted."""
+    check_refused(args)
+
+
+def test_a_subnormal_layer_is_refused_from_python_too() -> None:
+    import granflow
+    from granflow.config import ConfigError
+
+    with pytest.raises(ConfigError, match=r"geometry.erodible_thickness = 5e-324 .* inf "
+                                          "triangles in the layer"):
+        granflow.run("trapezoid-erodible", {"geometry.erodible_thickness": 5e-324})
 
 
 def test_each_floor_is_the_bound_of_its_key() -> None:

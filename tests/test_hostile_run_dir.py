@@ -446,3 +446,105 @@ def test_a_full_disk_ends_with_one_line(tmp_path: Path, monkeypatch: pytest.Monk
     code, lines = cli("run", "rectangle-rigid", *overrides, "--out", tmp_path / "run", "--quiet")
     assert full and code == 2 and len(lines) == 1
     assert "No space left on device" in lines[0]
+
+
+def padded_state(path: Path) -> None:
+    """The state's JSON padded with 64 MB of spaces: 64 KB on disk once deflated (as 500
+    MiB of spaces, which resumed at 1.7 GB of memory, against the real limit)."""
+    with np.load(path, allow_pickle=False) as archive:
+        arrays = {name: archive[name] for name in archive.files}
+    text = arrays["__state__"].tobytes() + b" " * 2**26
+    arrays["__state__"] = np.frombuffer(text, dtype=np.uint8)
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    path.write_bytes(buffer.getvalue())
+
+
+def test_a_padded_state_is_one_line_before_anything_is_read(hostile) -> None:
+    root = hostile(CHECKPOINT_FILE, padded_state)
+    assert (root / CHECKPOINT_FILE).stat().st_size < 2**20
+    before = (root / "diagnostics.csv").read_bytes()
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and "declares a state of" in lines[0], lines
+    assert (root / "diagnostics.csv").read_bytes() == before
+
+
+def test_the_state_and_the_members_it_names_are_capped_together(
+        hostile, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A state of 10 MB (within its own limit) and fields of 8 MB: 18 MB together, over the
+    16 MB the test allows a checkpoint in all."""
+    monkeypatch.setattr("granflow.io.checkpoint.CHECKPOINT_LIMIT", 2**24)
+
+    def grow(checkpoint: Path) -> None:
+        with np.load(checkpoint, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        tree = json.loads(arrays["__state__"].tobytes())
+        fields = tree["scenario"]["fields"]
+        arrays[fields["previous"]["__array__"]] = np.zeros(2**20)
+        text = json.dumps(tree).encode() + b" " * (10 * 2**20)
+        arrays["__state__"] = np.frombuffer(text, dtype=np.uint8)
+        buffer = io.BytesIO()
+        np.savez_compressed(buffer, **arrays)
+        checkpoint.write_bytes(buffer.getvalue())
+
+    root = hostile(CHECKPOINT_FILE, grow)
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and "together (at most" in lines[0], lines
+
+
+@pytest.mark.parametrize("path, value, member", [
+    ("outputs.remesh_times", [1e-9 * i for i in range(10**6)], "outputs.remesh_times"),
+    ("outputs.deposition_times", [1e-9 * i for i in range(10**6)],
+     "outputs.deposition_times"),
+    ("loop.steps_policy.fields.dt", float("nan"), "loop.steps_policy.dt"),
+    ("loop.steps_policy.fields.dt_max", -1.0, "loop.steps_policy.dt_max"),
+    ("loop.steps_policy.fields.tol", float("nan"), "loop.steps_policy.tol"),
+    ("loop.steps_policy.fields.stops", [-1.0, 0.03], "loop.steps_policy.stops[0]"),
+], ids=["remesh-times", "deposition-times", "dt-nan", "dt-max-negative", "tol-nan",
+        "stop-negative"])
+def test_a_state_that_would_run_wrong_is_one_line_before_anything_runs(
+        hostile, path: str, value: object, member: str) -> None:
+    """10^6 remesh times resumed and wrote a summary its own reader refused (the command
+    said "failed" and no more); a NaN or negative step, tolerance or stop resumed and ran,
+    or failed later."""
+    root = hostile(CHECKPOINT_FILE, state_member(path, value))
+    before = (root / "diagnostics.csv").read_bytes()
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 2 and len(lines) == 1 and member in lines[0], lines
+    assert (root / "diagnostics.csv").read_bytes() == before
+
+
+def test_an_unreadable_summary_says_why(base: Path,
+                                        capsys: pytest.CaptureFixture[str]) -> None:
+    """When what a run writes last cannot be read back (RunDir.summary gives {}), the
+    command says so in one line, not only "failed"."""
+    from granflow.app.cli import _report
+
+    assert _report({}, RunDir(base), printed=True) == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and "summary.json' is missing or cannot be read" in lines[0], lines
+
+
+def test_resuming_an_earlier_granflows_run_lists_only_its_own_files(hostile) -> None:
+    """A run directory from before the manifest: resumed, it lists the files its own
+    records name; a later --force deletes those and the resumed session's, and leaves a
+    user's files of layout-like names and temporary-like names."""
+    from granflow.io.run_dir import MANIFEST
+
+    planted = [*PLANTED, ".notes.tmp.txt", "fields/.mine.abcdefgh.tmp.txt",
+               "plots/.holiday.tmp"]
+    root = hostile(MANIFEST, lambda p: p.unlink())
+    for name in planted:
+        (root / name).write_text("mine\n")
+    code, lines = cli("resume", root, "--quiet")
+    assert code == 0 and lines == [], lines
+    listed = (root / MANIFEST).read_text().splitlines()
+    assert "fields/fields_00001.vtu" in listed and "checkpoint/state.npz" in listed
+    assert not set(planted) & set(listed)
+    overrides = [f"--set={key}={value}" for key, value in (COARSE | {"time.t_end": 0.005,
+                                                                     "time.output_times": []
+                                                                     }).items()]
+    code, lines = cli("run", "rectangle-rigid", *overrides, "--out", root, "--force", "--quiet")
+    assert code == 0 and lines == [], lines
+    assert all((root / name).read_text() == "mine\n" for name in planted)
+    assert not list((root / "profiles").glob("*_t0.0[12]0.csv"))   # the earlier run's

@@ -133,3 +133,40 @@ def test_a_run_killed_before_its_first_checkpoint_says_how_to_restart(uninterrup
     code, err = cli("resume", root)
     assert code == 2 and "before its first checkpoint" in err
     assert f"granflow run {root / 'config.toml'} --out {root} --force" in err
+
+
+# A coarse nonlocal rectangle (glass beads' constants), checkpointed every 10 steps: the
+# fluidity's own system is solved with the flow at every accepted step
+NONLOCAL = {"material.rheology": "nonlocal", "material.friction_angle_deg": 20.9,
+            "material.grain_diameter": 0.00053, "boundary.normal_load": "reaction",
+            "mesh.size": 0.04, "time.t_end": 0.06, "time.output_times": [0.06],
+            "output.checkpoint_every": 10}
+NONLOCAL_KILLED_AT = 20
+
+
+def test_a_nonlocal_run_continued_past_a_checkpoint_equals_it_resumed(tmp_path: Path) -> None:
+    """The run that goes on after writing its checkpoint and the run resumed from that
+    checkpoint are the same run: every summary figure (but the wall time and the resume's
+    own flag) and the free surface to the digit (the fluidity's factorisation, too, starts
+    afresh after a checkpoint)."""
+    with pytest.MonkeyPatch.context() as patch:
+        def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
+            path = write_checkpoint(run_dir, state)
+            if state.step == NONLOCAL_KILLED_AT:
+                shutil.copytree(run_dir.root, tmp_path / "killed",
+                                ignore=shutil.ignore_patterns(".granflow.lock"))
+            return path
+        patch.setattr(runner, "write_checkpoint", copy_at)
+        granflow.run("rectangle-rigid", NONLOCAL, tmp_path / "continued", progress=False)
+    resumed = granflow.resume(tmp_path / "killed", progress=False)
+    first, again = summary(tmp_path / "continued"), summary(resumed.root)
+    assert first["status"] == "completed" and first["steps"] > 2 * NONLOCAL_KILLED_AT
+    assert again["resumed"] is True
+    own = {"wall_time_s", "resumed"}
+    assert {k: v for k, v in again.items() if k not in own} == {
+        k: v for k, v in first.items() if k not in own}
+    pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "continued" / "diagnostics.csv"),
+                                  resumed.diagnostics, rtol=0, atol=0)
+    surface = Path("profiles") / "free_surface_final.csv"
+    assert (resumed.root / surface).read_bytes() == (
+        tmp_path / "continued" / surface).read_bytes()

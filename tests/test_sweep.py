@@ -128,3 +128,17 @@ def test_a_dashboard_address_is_given_only_where_one_exists(
         assert cluster.dashboard.startswith("http://")
         monkeypatch.setattr(sweep, "_has_bokeh", lambda: False)
         assert cluster.dashboard == ""
+
+
+def test_a_runs_notes_are_one_line_in_its_worker(tmp_path: Path,
+                                                 capfd: pytest.CaptureFixture[str]) -> None:
+    """What a run prints in its Dask worker: granflow's note as the command line prints it,
+    not a Python warning with the worker's source line (two lines a run)."""
+    from granflow.sweep import SweepRun, run_one
+
+    run = SweepRun("a", "rectangle-rigid", ["mesh.size=0.05", "time.t_end=0.002",
+                                            "output.progress=false"], {})
+    row = run_one(run, str(tmp_path))
+    assert row["status"] == "completed", row
+    err = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
+    assert err and all(line.startswith("granflow: note: ") for line in err), err

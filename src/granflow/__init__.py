@@ -20,9 +20,9 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")    # PARDISO (MKL): one thread, li
 __version__ = "0.2.0"
 
 __all__ = ["Config", "Run", "Summary", "load", "resume", "run", "__version__"]
-_API = {"run": "granflow.api", "load": "granflow.api", "resume": "granflow.api",
-        "Run": "granflow.api",
-        "Summary": "granflow.api", "Config": "granflow.config"}
+_API = {"run": "granflow.app.api", "load": "granflow.app.api", "resume": "granflow.app.api",
+        "Run": "granflow.app.api",
+        "Summary": "granflow.app.api", "Config": "granflow.config"}
 
 
 def __getattr__(name: str) -> object:
@@ -34,5 +34,9 @@ def __getattr__(name: str) -> object:
         return getattr(importlib.import_module(_API[name]), name)
     raise AttributeError(f"module 'granflow' has no attribute {name!r}")
 
+
+from granflow import earlier_names as _earlier  # noqa: E402  (granflow.runner, ...)
+
+_earlier.install()
 
 from granflow import scenarios as _kinds  # noqa: E402,F401  (the built-in kinds register)

@@ -1,5 +1,5 @@
 """``python -m granflow``: the same as the ``granflow`` command."""
 
-from granflow.cli import main
+from granflow.app.cli import main
 
 raise SystemExit(main())

@@ -28,7 +28,7 @@ from granflow.io.checkpoint import (
 from granflow.io.run_dir import RunDir
 from granflow.io.run_state import SimulationState
 from granflow.runner import build_problem, checked_state
-from granflow.simulation.state_spec import StateError
+from granflow.state.spec import StateError
 
 CONFIG = ["mesh.size=0.05", "time.t_end=0.01", "output.progress=false"]
 

@@ -2,6 +2,7 @@
 mobilisation against its ODE's exact solution, and the blended stress against simple shear."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -97,3 +98,22 @@ def test_start_and_flow_laws_must_match() -> None:
     with pytest.raises(ValueError, match="initial_mobilisation"):
         Hysteretic(flow=DruckerPrager(1.0, 20.0, 1e-6), start=DruckerPrager(1.0, 25.0, 1e-6),
                    relaxation=LAW, mobilisation=0.0, initial=1.5)
+
+
+def test_extreme_times_relax_without_a_numpy_warning() -> None:
+    """tau of 1e-300 s (its floor is 1e-6; the law itself takes any positive one) over a
+    step of 1 s: dt / tau overflows, s reaches its target, and numpy says nothing."""
+    relaxation = Relaxation(mobilisation_time=1e-300, rest_time=1e-300, shear_rate=1.0)
+    with np.errstate(all="raise"), warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = relaxation.relax(np.array([0.2, 0.7]), np.array([5.0, 0.0]), dt=1.0)
+    assert s.tolist() == [1.0, 0.0]
+
+
+def test_a_yield_ratio_beyond_the_floats_is_inf_without_a_numpy_warning() -> None:
+    from granflow.diagnostics.stress import yield_ratio
+
+    with np.errstate(all="raise"), warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ratio = yield_ratio(np.array([1e10, 1.0, 1.0]), np.array([1e-300, 2.0, 0.0]))
+    assert ratio[0] == math.inf and ratio[1] == 0.5 and math.isnan(ratio[2])

@@ -9,6 +9,14 @@ import ngsolve as ngs
 import pytest
 
 from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import (
+    Discretisation,
+    FlowSpec,
+    GivenLaw,
+    SolverChoice,
+    Terms,
+    build_flow,
+)
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
 from granflow.physics import DruckerPrager
 
@@ -19,9 +27,10 @@ def _solver(initial_guess: str, linearization: str = "picard",
             scheme: str = "implicit-euler") -> FlowSolver:
     mesh = polygon_mesh([(0, 0), (0.2, 0), (0.2, 0.1), (0, 0.1)],
                         [BED, SURFACE, SURFACE, WALL], 0.05)
-    return FlowSolver(mesh, rheology=DruckerPrager(1.0, 25.5, 1e-3), density=1550.0,
-                      body_force=(0.0, -9.81), linearization=linearization,
-                      initial_guess=initial_guess, scheme=scheme)
+    return build_flow(mesh, FlowSpec(
+        GivenLaw(DruckerPrager(1.0, 25.5, 1e-3), 1550.0), Terms((0.0, -9.81)),
+        Discretisation(scheme=scheme),
+        SolverChoice(linearization, initial_guess=initial_guess)))
 
 
 def _history(s: FlowSolver, speeds: tuple[float, float, float]) -> None:

@@ -13,7 +13,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SOURCE = ROOT / "src" / "granflow"
 ENGINES = ("ngsolve", "netgen")
-ENGINE_FREE = ("physics", "config", "simulation", "reference")   # the page's words
+ENGINE_FREE = ("physics", "config", "simulation", "reference", "state")   # the page's words
 # the modules of geometry/ that mesh with Netgen: sections (2D) and solids (3D)
 MESHERS = ["geometry/mesh.py", "geometry/mesh3d.py"]
 
@@ -64,10 +64,22 @@ def imports() -> list[tuple[str, str, str]]:
 
 
 def test_the_page_lists_the_layers() -> None:
-    """The table is read: six layers, the loop below the finite elements."""
+    """The table is read: six layers, the application one package, the loop and the files
+    below the finite elements, the checkpoint's schema on the ground floor."""
     assert len(LAYERS) == 6
-    assert RANK["runner"] == 0 and RANK["scenarios"] == RANK["io"] == 1
-    assert RANK["fem"] < RANK["simulation"] < RANK["physics"]
+    assert RANK["app"] == 0 and RANK["scenarios"] == 1
+    assert RANK["fem"] < RANK["simulation"] == RANK["io"] < RANK["physics"] == RANK["state"]
+
+
+def test_earlier_module_names_are_the_modules_they_became() -> None:
+    """``granflow.runner``, ``granflow.cli``, ... (and the schema's earlier home) import as
+    the very modules of ``granflow.app`` (a patch of one patches the other)."""
+    import importlib
+
+    from granflow.earlier_names import EARLIER
+
+    for old, new in EARLIER.items():
+        assert importlib.import_module(old) is importlib.import_module(new), old
 
 
 def test_every_package_has_a_layer() -> None:
@@ -196,3 +208,22 @@ def test_three_questions_each_have_one_home() -> None:
         "scenarios/column_geometry_rules.py"}
     assert files(r"bed_profile(_file)? is (not )?None") == {
         "geometry/scene.py", "scenarios/column_geometry_rules.py"}
+
+
+def test_the_flow_solver_names_no_coupling() -> None:
+    """The solver and its factory hold couplings behind their protocol (``fem/coupling.py``):
+    neither imports a coupling's module nor asks whether one is there; the page draws them."""
+    couplings = {"granflow.fem.fluidity", "granflow.fem.augmented_lagrangian",
+                 "granflow.fem.primal_dual", "granflow.fem.mobilisation_field",
+                 "granflow.fem.material_share"}
+    for module in ("fem/flow.py", "fem/flow_factory.py", "fem/flow_spec.py"):
+        assert not couplings & set(imported(SOURCE / module)), module
+    assert source_lines(r"(fluidity|augmented|dual|mobilisation)\w* is (not )?None") == [
+        f for f in source_lines(r"(fluidity|augmented|dual|mobilisation)\w* is (not )?None")
+        if f.split(":")[0] in {"fem/fluidity.py", "fem/augmented_lagrangian.py",
+                               "fem/nonlinear.py", "fem/primal_dual.py",
+                               "scenarios/fluidity.py", "scenarios/mobilisation_tracking.py",
+                               "scenarios/column_discretisation.py", "scenarios/column.py",
+                               "scenarios/plug_flow.py", "scenarios/column_remesher.py"}]
+    page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    assert "## The flow solver, built from parts" in page and "build_flow" in page

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import FlowSpec, GivenLaw, SolverChoice, Terms, build_flow
 from granflow.fem.forms import FrictionWall
 from granflow.geometry.mesh import BED, SURFACE, WALL, polygon_mesh
 from granflow.physics import CoulombFriction, DruckerPrager
@@ -21,11 +22,12 @@ def solver() -> FlowSolver:
     """
     mesh = polygon_mesh([(0, 0), (0.3, 0), (0.2, 0.2), (0, 0.2)],
                         [BED, SURFACE, SURFACE, WALL], 0.06)
-    s = FlowSolver(mesh, rheology=DruckerPrager(1.0, 25.5, 1e-2), density=1550.0,
-                   body_force=(0.0, -9.81),
-                   walls=[FrictionWall(BED, CoulombFriction(25.5, 1e-3)),
-                          FrictionWall(WALL, CoulombFriction(10.2, 1e-3))],
-                   penalty=1e6, linearization="newton")
+    s = build_flow(mesh, FlowSpec(
+        GivenLaw(DruckerPrager(1.0, 25.5, 1e-2), 1550.0),
+        Terms((0.0, -9.81), walls=(FrictionWall(BED, CoulombFriction(25.5, 1e-3)),
+                                   FrictionWall(WALL, CoulombFriction(10.2, 1e-3))),
+              penalty=1e6),
+        solver=SolverChoice("newton")))
     x, z = ngs.x, ngs.y
     s.set_state(ngs.CF((0.3 * x * (1 + z) + 0.05, -0.2 * z * z + 0.1 * x)),
                 1550 * 9.81 * (0.25 - z) + 200 * x)

@@ -114,7 +114,8 @@ def test_nonlocal_refusals(overrides: list[str], message: str) -> None:
 
 
 def test_a_nonlocal_column_over_a_local_layer_is_refused() -> None:
-    with pytest.raises(ConfigError, match="nonlocal too"):
+    with pytest.raises(ConfigError, match="follows the nonlocal law needs the other one to "
+                                          "follow it too"):
         load_config("trapezoid-erodible", ["material.rheology=nonlocal",
                                            "layer.rheology=drucker-prager"])
 

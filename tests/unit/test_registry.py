@@ -99,7 +99,7 @@ def test_neither_the_runner_nor_the_output_modules_ask_for_the_kind_or_the_layer
     test of geometry.kind, of the erodible layer or of a layer's material in them."""
     asks = re.compile(r"geometry\.kind|\.kind ?[!=]=|erodible_thickness ?[<>]|layer ?=|"
                       r"layer is (not )?None|TwoMaterials|mobilisation_cells")
-    files = [SOURCE / "runner.py", *sorted((SOURCE / "io").glob("*.py")),
+    files = [SOURCE / "app" / "run.py", *sorted((SOURCE / "io").glob("*.py")),
              SOURCE / "scenarios" / "column_measures.py"]
     found = [f"{f.name}:{i}" for f in files
              for i, line in enumerate(f.read_text(encoding="utf-8").splitlines(), 1)

@@ -92,11 +92,14 @@ def test_force_refuses_a_run_of_an_earlier_granflow_without_a_manifest(tmp_path:
     with pytest.raises(RunDirError, match="kept no list of the files it wrote"):
         RunDir.create(run.root, force=True)
     assert (run.root / "config.toml").exists()
-    RunDir(run.root).adopt_layout()                 # as `granflow resume` does
+    (run.root / "plots").mkdir()
+    (run.root / "plots" / "holiday.png").write_text("mine\n")
+    RunDir(run.root).adopt_layout([          # what its own records name, as resume does
+        "config.toml", "summary.json", "fields/fields_00003.vtu", "../notes.txt"])
     assert (run.root / MANIFEST).read_text().splitlines() == [
         "config.toml", "fields/fields_00003.vtu"]
     RunDir.create(run.root, force=True)
-    assert files_in(run.root) == sorted([LOCK_FILE, "notes.txt"])
+    assert files_in(run.root) == sorted([LOCK_FILE, "notes.txt", "plots/holiday.png"])
 
 
 def test_an_empty_or_unwritable_out_is_an_error(tmp_path: Path) -> None:
@@ -303,11 +306,20 @@ def test_writers_replace_a_planted_link_and_never_follow_it(tmp_path: Path) -> N
 
 def test_resume_removes_the_temporary_files_a_kill_left_and_nothing_else(
         tmp_path: Path) -> None:
+    """Those of the files the manifest lists (io/atomic.py's names, and the fixed names of
+    earlier versions); a user's named like them, of files the run never wrote, stay."""
     run = RunDir.create(tmp_path)
     left = ["fields/.fields.pvd.tmp", "fields/.fields_00002.vtu.tmp", "plots/.speed.tmp.gif",
             ".summary.json.ab12cd34.tmp.json", "profiles/.units.json.x1y2z3w4.tmp.json"]
-    kept = ["fields/fields.pvd", "notes.tmp.txt", "plots/.hidden", "fields/.keep.tmp/x"]
-    for name in left + kept:
+    targets = ["fields/fields.pvd", "fields/fields_00002.vtu", "plots/speed.gif",
+               "summary.json", "profiles/units.json"]
+    kept = ["notes.tmp.txt", "plots/.hidden", "fields/.keep.tmp/x", ".notes.tmp",
+            ".notes.txt.ab12cd34.tmp.txt", "plots/.holiday.png.ab12cd34.tmp.png",
+            ".summary.json.ab12cd34.tmp.csv"]
+    for name in targets:
         run.write_text(name, "x")
+    for name in left + kept:
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text("x")
     run.remove_temporary_files()
-    assert files_in(tmp_path) == sorted(kept)
+    assert files_in(tmp_path) == sorted([*targets, *kept])

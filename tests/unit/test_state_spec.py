@@ -1,5 +1,5 @@
 """Every member of a checkpoint's state is checked before any part reads it: each part
-declares its share (``simulation/state_spec.py``) and ``runner.checked_state`` checks the
+declares its share (``state/spec.py``) and ``runner.checked_state`` checks the
 three shares in one place.
 
 Generated from real states (a rigid collapse; an erodible one with a layer of its own
@@ -25,7 +25,7 @@ from granflow.config import load_config
 from granflow.io.run_state import SimulationState
 from granflow.runner import build_problem, checked_state
 from granflow.scenarios.registry import Problem
-from granflow.simulation.state_spec import StateError
+from granflow.state.spec import StateError
 
 CASES = {
     "rigid": ("trapezoid-rigid", ["mesh.size=0.05", "time.t_end=0.004"]),

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from granflow.config import load_config
-from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import FlowSpec, GivenLaw, Terms, build_flow
 from granflow.fem.forms import FrictionWall
 from granflow.geometry.mesh import BED, SURFACE, polygon_mesh, signed_areas
 from granflow.physics import CoulombFriction, DruckerPrager
@@ -92,10 +92,10 @@ def sliding_block(slope_deg: float, viscosity: float = 1e4, tol: float = 1e-8,
     mesh = polygon_mesh([(0, 0), (0.2, 0), (0.2, 0.1), (0, 0.1)],
                         [BED, SURFACE, SURFACE, SURFACE], size)
     g, theta = 9.81, math.radians(slope_deg)
-    solver = FlowSolver(mesh, rheology=DruckerPrager(viscosity, 25.5, 1e-6), density=1500.0,
-                        body_force=(g * math.sin(theta), -g * math.cos(theta)),
-                        walls=[FrictionWall(BED, CoulombFriction(25.5, 1e-6), load)],
-                        penalty=1e12)
+    solver = build_flow(mesh, FlowSpec(
+        GivenLaw(DruckerPrager(viscosity, 25.5, 1e-6), 1500.0),
+        Terms((g * math.sin(theta), -g * math.cos(theta)),
+              walls=(FrictionWall(BED, CoulombFriction(25.5, 1e-6), load),), penalty=1e12)))
     solver.set_state(ngs.CF((0.0, 0.0)), 1500.0 * g * math.cos(theta) * (0.1 - ngs.y))
     for _ in range(round(t_end / dt)):
         report = solver.solve_step(dt, tol, 300)

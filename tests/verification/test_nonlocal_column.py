@@ -16,6 +16,7 @@ from granflow.io.checkpoint import read_checkpoint, write_checkpoint
 from granflow.io.run_dir import RunDir
 from granflow.io.run_state import SimulationState
 from granflow.scenarios.column import ColumnCollapse, build_column
+from granflow.scenarios.fluidity import fluidity_of
 
 BEADS = ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
          "material.grain_diameter=0.00053", "mesh.size=0.04", "time.output_times=[]",
@@ -27,7 +28,7 @@ def column(*overrides: str, scenario: str = "rectangle-rigid") -> ColumnCollapse
 
 
 def total(problem: ColumnCollapse) -> float:
-    field = problem.solver.fluidity
+    field = fluidity_of(problem.solver)
     assert field is not None
     return float(ngs.Integrate(field.previous, problem.mesh))
 
@@ -39,7 +40,7 @@ def test_the_column_fluidises_from_rest_and_the_fluidity_crosses_a_remesh() -> N
     problem = column("time.t_end=0.1")
     result = problem.simulation.run()
     assert result.status == "completed", result.message
-    field = problem.solver.fluidity
+    field = fluidity_of(problem.solver)
     assert field is not None and field.vertex_values().max() > 1.0
     before = total(problem)
     mesh = problem.mesh
@@ -64,11 +65,11 @@ def test_a_checkpoint_restores_the_fluidity(tmp_path: Path) -> None:
     twin = column("time.t_end=0.04")
     twin.restore_state(saved.scenario)
     twin.simulation.restore_state(saved.loop)
-    g_first, g_twin = (p.solver.fluidity.previous.vec.FV().NumPy()     # type: ignore[union-attr]
+    g_first, g_twin = (fluidity_of(p.solver).previous.vec.FV().NumPy()     # type: ignore[union-attr]
                        for p in (first, twin))
     np.testing.assert_array_equal(g_twin, g_first)
     twin.simulation.run()
-    g_end, g_straight = (p.solver.fluidity.previous.vec.FV().NumPy()   # type: ignore[union-attr]
+    g_end, g_straight = (fluidity_of(p.solver).previous.vec.FV().NumPy()   # type: ignore[union-attr]
                          for p in (twin, straight))
     assert np.abs(g_end - g_straight).max() <= 5e-3 * np.abs(g_straight).max()
     assert np.abs(g_end - g_first).max() > 0.01 * np.abs(g_end).max()
@@ -100,6 +101,6 @@ def test_cylinder_and_layers_run(scenario: str, extra: list[str]) -> None:
     problem = column("time.t_end=0.03", *extra, scenario=scenario)
     result = problem.simulation.run()
     assert result.status == "completed", result.message
-    field = problem.solver.fluidity
+    field = fluidity_of(problem.solver)
     assert field is not None and field.vertex_values().max() > 0.1
     assert abs(problem.mover.area() / problem.mover.initial_area - 1) < 1e-6

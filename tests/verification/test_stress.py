@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from granflow.config import load_config
+from granflow.diagnostics.flow_fields import FlowSnapshot
 from granflow.io.fields import FieldSnapshots
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import read_snapshot
@@ -31,7 +32,7 @@ def test_a_layer_at_rest_carries_its_weight(tmp_path: Path, law: str) -> None:
     problem = build_plug_flow(config)
     problem.simulation.run()
     run_dir = RunDir.create(tmp_path / "run")
-    FieldSnapshots(run_dir, problem).write(problem.simulation.t)
+    FieldSnapshots(run_dir, FlowSnapshot(problem)).write(problem.simulation.t)
     fields = read_snapshot(run_dir.root, problem.simulation.t)
 
     z = fields.points[fields.triangles][:, :, 1].mean(axis=1)     # cell centroids

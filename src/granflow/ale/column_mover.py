@@ -49,7 +49,7 @@ from granflow.fem.sampling import triangles
 from granflow.geometry.gate import Gate
 from granflow.geometry.labels import BED, END, GATE, SURFACE, WALL
 from granflow.geometry.profile import Line
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     COUNT,
     REAL,
     TIME,

@@ -38,7 +38,8 @@ from granflow.config.messages import fmt_value, note, one_line
 from granflow.config.presets import apply_presets, changed_keys, mixed_constants, user_keys
 from granflow.config.rules import inert_keys, problems
 from granflow.config.scenario_files import builtin_scenarios, scenario_text
-from granflow.config.schema import SECTIONS, ConfigError, ConfigModel
+from granflow.config.schema import SECTIONS, ConfigError, ConfigModel, law_sections
+from granflow.physics.laws import law_keys
 
 CUSTOM = "custom"  # scenario name of a TOML file that starts from the package defaults only
 TOML_HEADER = "# granflow resolved configuration: rerun with `granflow run config.toml`\n"
@@ -101,6 +102,7 @@ def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
     A key the user sets (in a TOML file or an override) to something other than what it
     would be anyway is rejected when it has no effect on this scenario (``inert_keys``).
     """
+    law_sections()
     data = _defaults()
     name, layers = _read_source(source)
     from_file = name == CUSTOM or len(layers) > 1
@@ -121,6 +123,7 @@ def load_config(source: str | Path, overrides: Overrides = ()) -> Config:
 def apply_overrides(config: Config, overrides: Overrides) -> Config:
     """A copy of ``config`` with overrides applied, checked as ``load_config`` checks them
     (a key without effect here is refused when its value changes)."""
+    law_sections()
     data = config.model_dump()
     base = copy.deepcopy(data)
     keys = _apply(data, overrides)
@@ -194,10 +197,15 @@ def config_to_toml(config: Config) -> str:
 
 
 def _defaults() -> dict[str, Any]:
+    """defaults.toml, and the defaults of the keys the laws register (``physics/laws.py``)."""
     text = resources.files("granflow").joinpath("defaults.toml").read_text(encoding="utf-8")
     data = tomllib.loads(text)
     _check_keys(data)
-    return {section: dict(data.get(section, {})) for section in SECTIONS}
+    out = {section: dict(data.get(section, {})) for section in SECTIONS}
+    for key, spec in law_keys().items():
+        out["material"].setdefault(key, spec.default)
+        out["layer"].setdefault(key, "none")
+    return out
 
 
 def _read_source(source: str | Path) -> tuple[str, list[dict[str, Any]]]:

@@ -4,9 +4,10 @@ about valid ones, which point at the user's own line."""
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from types import NoneType, UnionType
 from typing import Annotated, Any, Literal, Union, get_args, get_origin
@@ -28,6 +29,26 @@ def note(message: str) -> None:
             _PACKAGE):
         frame, level = frame.f_back, level + 1
     warnings.warn(message, ConfigNote, stacklevel=level)
+
+
+def show_note(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+              file: object = None, line: str | None = None) -> None:
+    """``warnings.showwarning`` that prints a configuration note (``ConfigNote``) as one
+    line, ``granflow: note: ...``, and other warnings as Python shows them."""
+    if issubclass(category, ConfigNote):
+        print(f"granflow: note: {message}", file=sys.stderr)
+    else:
+        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
+
+
+@contextlib.contextmanager
+def notes_as_lines() -> Iterator[None]:
+    """Within: each configuration note once, as one line (the command line, and each run
+    of a sweep in its Dask worker, where Python would show the worker's source line)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("default", ConfigNote)
+        warnings.showwarning = show_note
+        yield
 
 
 def one_line(error: Any, data: dict[str, Any], sections: Mapping[str, type[BaseModel]]) -> str:

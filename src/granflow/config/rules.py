@@ -7,14 +7,14 @@ every other key changes a result (tests/unit/test_config_keys.py walks the schem
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 from granflow.config.cost import cost_problems
 from granflow.config.kinds import erodible_layer, rules_of
 from granflow.config.messages import fmt_value
-from granflow.config.schema import Layer, Material
-from granflow.physics.laws import FRICTIONS, RHEOLOGIES
+from granflow.config.schema import SECTIONS, MaterialKeys
+from granflow.physics.laws import all_laws, keys_read, laws_of
 from granflow.physics.laws import checks as law_checks
 
 if TYPE_CHECKING:
@@ -62,13 +62,17 @@ def problems(c: Config) -> Iterator[str]:
     yield from _layer_problems(c)
     yield from cost_problems(c)
     for section, mat in _materials(c).items():
-        yield from law_checks(mat, section)
-    yield from _friction_problems(c)
-    yield from _nonlocal_problems(c)
+        yield from law_checks(mat, section, c.numerics.eps)
+    yield from _one_field_problems(c)
     mat = c.material
     if c.numerics.method == "augmented-lagrangian" and mat.rheology != "drucker-prager":
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
                f"'drucker-prager' (not {mat.rheology!r})")
+    if c.numerics.method == "augmented-lagrangian" and any(
+            m.friction != "constant" for m in _materials(c).values()):
+        yield ("numerics.method = 'augmented-lagrangian' needs a constant friction; use "
+               "'regularized' with friction = " + repr(next(
+                   m.friction for m in _materials(c).values() if m.friction != "constant")))
 
 
 def _layer_problems(c: Config) -> Iterator[str]:
@@ -82,12 +86,7 @@ def _layer_problems(c: Config) -> Iterator[str]:
                f"{', '.join(f'layer.{k}' for k in own)}; use numerics.method = 'regularized'")
 
 
-HYSTERESIS_KEYS = FRICTIONS["hysteretic"].keys
-CREEP_MARGIN = 100.0   # mobilisation_shear_rate / eps at least: the creep of (2.13) at rest,
-                       # eps ratio / sqrt(1 - ratio^2), passes it only within 5e-5 of yield
-
-
-def _materials(c: Config) -> dict[str, Material]:
+def _materials(c: Config) -> dict[str, MaterialKeys]:
     """The run's materials by section: [material], and the layer's when the run has an
     erodible layer ([material] with what [layer] sets over it)."""
     out = {"material": c.material}
@@ -97,45 +96,45 @@ def _materials(c: Config) -> dict[str, Material]:
     return out
 
 
-def _hysteretic_materials(c: Config) -> dict[str, Material]:
-    """The run's materials with a hysteretic friction, by section ("material", "layer")."""
-    return {k: m for k, m in _materials(c).items() if m.friction == "hysteretic"}
-
-
-def _friction_problems(c: Config) -> Iterator[str]:
-    """A hysteretic friction: a threshold far above the regularisation's creep, and a method
-    that takes a friction field."""
-    materials = _hysteretic_materials(c)
-    for section, mat in materials.items():
-        if mat.mobilisation_shear_rate < CREEP_MARGIN * c.numerics.eps:
-            yield (f"{section}.mobilisation_shear_rate = {mat.mobilisation_shear_rate!r} must be "
-                   f"at least {CREEP_MARGIN:g} x numerics.eps = "
-                   f"{CREEP_MARGIN * c.numerics.eps:.3g} (material at rest creeps at rates of "
-                   "order eps and must not count as sheared)")
-    if materials and c.numerics.method == "augmented-lagrangian":
-        yield ("numerics.method = 'augmented-lagrangian' needs a constant friction; use "
-               "'regularized' with friction = 'hysteretic'")
-
-
-NONLOCAL_KEYS = RHEOLOGIES["nonlocal"].keys
-
-
-def _nonlocal_materials(c: Config) -> dict[str, Material]:
-    """The run's materials that follow the nonlocal law, by section."""
-    return {k: m for k, m in _materials(c).items() if m.rheology == "nonlocal"}
-
-
-def _nonlocal_problems(c: Config) -> Iterator[str]:
-    """The nonlocal law: both materials nonlocal or neither (one fluidity field across the
-    interface)."""
+def _one_field_problems(c: Config) -> Iterator[str]:
+    """A law whose field crosses the interface (``Law.one_field``: the nonlocal fluidity)
+    needs both materials to follow it, or neither."""
     materials = _materials(c)
-    nonlocal_ = _nonlocal_materials(c)
-    if not nonlocal_:
+    if len(materials) < 2:
         return
-    if len(nonlocal_) != len(materials):
-        yield (f"layer.rheology = {materials['layer'].rheology!r} beside material.rheology = "
-               f"{c.material.rheology!r}: a nonlocal material needs the other one nonlocal "
-               "too (one fluidity field crosses the interface); set both or neither")
+    for law in all_laws():
+        users = [s for s, m in materials.items() if law in laws_of(m)]
+        if law.one_field and len(users) == 1:
+            yield (f"layer.rheology = {materials['layer'].rheology!r} beside material.rheology "
+                   f"= {c.material.rheology!r}: a material that follows {law.described} "
+                   "needs the other one to follow it too (one field crosses the interface); "
+                   "set both or neither")
+
+
+def _law_inert_keys(c: Config, add: Callable[[str, str], None]) -> None:
+    """The keys of the laws a run's materials do not follow (a key of [material] is also
+    the layer's unless [layer] sets it), the other sections' settings only such laws use,
+    and the grains' keys where no law reads them (grain_diameter is also, over an erodible
+    layer, the distance that counts as displaced)."""
+    materials = _materials(c)
+    named = ", ".join(f"{s}.rheology = {m.rheology!r}" + (
+        f" with friction = {m.friction!r}" if m.friction != "constant" else "")
+        for s, m in materials.items())
+    read = {k for m in materials.values() for k in keys_read(m)}
+    used = {law.name for m in materials.values() for law in laws_of(m)}
+    layer = materials.get("layer")
+    for law in all_laws():
+        why = f"it is a parameter of {law.described}, and {named}"
+        if law.name not in used:
+            add(" ".join(f"material.{k}" for k in law.keys if k not in read), why)
+            add(" ".join(law.settings), why)
+        if layer is not None and law not in laws_of(layer):
+            add(" ".join(f"layer.{k}" for k in law.keys if k not in keys_read(layer)), why)
+    grains = {"grain_density"} | ({"grain_diameter"} if layer is None else set())
+    add(" ".join(f"material.{k}" for k in sorted(grains - read)),
+        f"no law of the run reads it ({named})")
+    if layer is not None and "grain_density" not in keys_read(layer):
+        add("layer.grain_density", f"no law of the layer reads it ({named})")
 
 
 def inert_keys(c: Config) -> dict[str, str]:
@@ -147,35 +146,11 @@ def inert_keys(c: Config) -> dict[str, str]:
     def add(keys: str, reason: str) -> None:
         out.update(dict.fromkeys(keys.split(), reason))
 
-    layer_keys = " ".join(f"layer.{k}" for k in Layer.model_fields)
-    erodible = erodible_layer(c)
-    layer_law = (c.layer.rheology or c.material.rheology) if erodible else "drucker-prager"
-    if c.material.rheology == "drucker-prager" and layer_law == "drucker-prager":
-        add("material.mu_2_deg material.i0 material.grain_density"
-            + ("" if erodible else " material.grain_diameter"),
-            "it is a parameter of mu(I), and material.rheology = 'drucker-prager'"
-            + (" (the layer's too)" if erodible else ""))
-    elif c.material.rheology == "nonlocal" and layer_law == "nonlocal":
-        # (mu_2_deg is read: the nonlocal law holds material at rest up to mu_2)
-        add("material.i0", "it is a parameter of mu(I), and "
-            "material.rheology = 'nonlocal' (whose local law is mu_s + b I)")
-    nonlocal_ = _nonlocal_materials(c)
-    if "material" not in nonlocal_:
-        add(" ".join(f"material.{k}" for k in NONLOCAL_KEYS), "it is a parameter of the "
-            "nonlocal law, and material.rheology is not 'nonlocal'")
-    if erodible and "layer" not in nonlocal_:
-        add(" ".join(f"layer.{k}" for k in NONLOCAL_KEYS), "it is a parameter of the "
-            "nonlocal law, and the layer's (layer.rheology, else material.rheology) is not "
-            "'nonlocal'")
-    if not nonlocal_:
-        add("numerics.fluidity_coupling initial.fluidity boundary.bed_fluidity",
-            "it is a setting of the nonlocal law's fluidity, and no material is 'nonlocal'")
-    if not erodible:
+    layer_keys = " ".join(f"layer.{k}" for k in SECTIONS["layer"].model_fields)
+    _law_inert_keys(c, add)
+    if not erodible_layer(c):
         add(layer_keys, "it describes the erodible layer's material, and there is none "
             "(geometry.erodible_thickness = 0 or geometry.kind = 'periodic-layer')")
-    elif layer_law == "drucker-prager":
-        add("layer.mu_2_deg layer.i0 layer.grain_density", "it is a parameter of mu(I), and "
-            "the layer's law (layer.rheology, else material.rheology) is 'drucker-prager'")
     if t.dt is not None:
         add("time.dt_init time.dt_max time.dt_growth time.error_tol time.error_floor "
             "time.dt_max_slow time.slow_courant numerics.tol_init", "time.dt sets a fixed step")
@@ -186,15 +161,6 @@ def inert_keys(c: Config) -> dict[str, str]:
     else:
         add("time.error_tol time.error_floor time.dt_max_slow time.slow_courant",
             "time.adaptive = false")
-    hysteretic = _hysteretic_materials(c)
-    if not hysteretic:
-        add(" ".join(f"material.{k}" for k in HYSTERESIS_KEYS),
-            "it is a parameter of the hysteretic friction, and material.friction = 'constant'"
-            + (" (the layer's too)" if erodible else ""))
-    if erodible and "layer" not in hysteretic:
-        add(" ".join(f"layer.{k}" for k in HYSTERESIS_KEYS), "it is a parameter of the "
-            "hysteretic friction, and the layer's (layer.friction, else material.friction) "
-            "is 'constant'")
     if c.numerics.method == "regularized":
         add("numerics.al_r", "numerics.method = 'regularized'")
     else:

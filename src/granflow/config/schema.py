@@ -1,7 +1,10 @@
 """The configuration's schema: frozen, strictly typed section models with their ranges.
 
 Each field's type and bounds are the single statement of what a key accepts: the loader
-validates with them and the messages and the parameters page read them back.
+validates with them and the messages and the parameters page read them back. The keys a law
+alone reads, and the names ``material.rheology`` and ``material.friction`` accept, are the
+laws' registrations (``physics/laws.py``): ``law_sections`` makes ``[material]`` and
+``[layer]`` from them, again when a law registers later (the loader asks first).
 """
 
 from __future__ import annotations
@@ -10,10 +13,12 @@ import math
 from types import NoneType
 from typing import Annotated, Any, Literal, NamedTuple, get_args, get_origin
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, create_model, model_validator
 from pydantic_core import PydanticCustomError
 
+import granflow.physics  # noqa: F401  (the built-in laws register)
 from granflow.config.kinds import KIND_RULES, kind_names
+from granflow.physics import laws
 
 
 class ConfigError(ValueError):
@@ -70,6 +75,10 @@ FLOORS = {
                                     "at rest (1 mm/s)"),
     "surface_tension.delta": Floor(1.0, "one surface node: any smaller extent acts on the "
                                         "critical node alone, as 1 does"),
+    "gate.tau": Floor(1e-3, "a millisecond: the gate is at full speed within the first steps "
+                            "of a collapse (glass beads: 0.13 s)"),
+    "numerics.al_r": Floor(1e-3, "the smallest r the augmented Lagrangian balances it to "
+                                 "(Pa s)"),
 }
 FLOORS["layer.grain_diameter"] = FLOORS["material.grain_diameter"]
 
@@ -120,27 +129,19 @@ def _int_field(model: type[BaseModel], key: str) -> bool:
 PresetName = Literal["glass-beads"]     # physics/presets.py: PRESETS
 
 
-class Material(_Section):
+class MaterialKeys(_Section):
+    """The keys of every material; ``Material`` adds the registered laws' own keys."""
+
     preset: PresetName | None  # every constant of a named material, for the law it runs with
     density: Annotated[float, Field(ge=1, le=1e5)]  # rho (kg/m^3)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)]  # dynamic viscosity eta (Pa s)
     friction_angle_deg: Angle  # delta, mu_s = tan(delta); 0 = the purely viscous limit
-    rheology: Literal["drucker-prager", "mu-i", "nonlocal"]
+    rheology: str  # a registered law's name
     gravity: Annotated[float, Field(ge=floor("material.gravity"), le=100)]  # g (m/s^2)
-    mu_2_deg: Angle  # mu(I): mu_2 = tan(angle), the friction at large I
-    i0: Annotated[float, Field(gt=0, le=100)]  # mu(I): I0
     grain_diameter: Annotated[float, Field(ge=floor("material.grain_diameter"),
-                                           le=10)]  # mu(I): d (m)
-    grain_density: Annotated[float, Field(ge=1, le=1e5)]  # mu(I): rho_s (kg/m^3)
-    friction: Literal["constant", "hysteretic"]  # hysteretic: mu_start at rest, mu_flow flowing
-    start_friction_angle_deg: Angle  # hysteretic: mu_start = tan(angle)
-    mobilisation_time: Duration  # hysteretic: tau_m (s), s -> 1 where sheared
-    rest_time: Duration  # hysteretic: tau_r (s), s -> 0 at rest
-    mobilisation_shear_rate: ShearRate  # hysteretic: sheared above this sqrt(2)|Du| (1/s)
-    initial_mobilisation: Annotated[float, Field(ge=0, le=1)]  # hysteretic: s at t = 0
-    nonlocal_amplitude: Annotated[float, Field(ge=0, le=100)]  # nonlocal: A (0 = local law)
-    nonlocal_b: Annotated[float, Field(gt=0, le=100)]  # nonlocal: b, mu = mu_s + b I
-    fluidity_time: Literal["inertial"] | Annotated[float, Field(ge=1e-9, le=1e4)]  # t0 (s)
+                                           le=10)]  # d (m)
+    grain_density: Annotated[float, Field(ge=1, le=1e5)]  # rho_s (kg/m^3)
+    friction: str  # a registered friction's name
 
     @property
     def mu_s(self) -> float:
@@ -153,29 +154,55 @@ class Material(_Section):
         return self.viscosity / self.density
 
 
-class Layer(_Section):
+class LayerKeys(_Section):
     """The erodible layer's own material; every key left "none" is [material]'s (one
-    material everywhere, today's runs). Gravity is [material]'s."""
+    material everywhere, today's runs). Gravity is [material]'s. ``Layer`` adds the
+    registered laws' own keys."""
 
     preset: PresetName | None  # the layer's constants from a named material
     density: Annotated[float, Field(ge=1, le=1e5)] | None  # rho of the layer (packing)
     viscosity: Annotated[float, Field(ge=1e-9, le=1e6)] | None  # eta (Pa s)
     friction_angle_deg: Angle | None  # delta of the layer, mu_s = tan(delta)
-    rheology: Literal["drucker-prager", "mu-i", "nonlocal"] | None
-    mu_2_deg: Angle | None  # mu(I) of the layer: mu_2 = tan(angle)
-    i0: Annotated[float, Field(gt=0, le=100)] | None
+    rheology: str | None
     grain_diameter: Annotated[float, Field(ge=floor("layer.grain_diameter"),
                                            le=10)] | None  # m
     grain_density: Annotated[float, Field(ge=1, le=1e5)] | None  # kg/m^3
-    friction: Literal["constant", "hysteretic"] | None
-    start_friction_angle_deg: Angle | None
-    mobilisation_time: Duration | None  # s
-    rest_time: Duration | None  # s
-    mobilisation_shear_rate: ShearRate | None  # 1/s
-    initial_mobilisation: Annotated[float, Field(ge=0, le=1)] | None
-    nonlocal_amplitude: Annotated[float, Field(ge=0, le=100)] | None
-    nonlocal_b: Annotated[float, Field(gt=0, le=100)] | None
-    fluidity_time: Literal["inertial"] | Annotated[float, Field(ge=1e-9, le=1e4)] | None
+    friction: str | None
+
+
+def _key_type(key: laws.Key) -> Any:
+    """A law key's annotation: a number in its range, or one of its words."""
+    number = Annotated[float, Field(ge=key.low, le=key.high, gt=key.above, lt=key.below)]
+    return Literal[key.choices] | number if key.choices else number   # type: ignore[valid-type]
+
+
+def _names(table: dict[str, laws.Law]) -> Any:
+    return Literal[tuple(table)]   # type: ignore[valid-type]
+
+
+def _material_model() -> type[MaterialKeys]:
+    own = {k: (_key_type(spec), spec.default) for k, spec in laws.law_keys().items()}
+    return create_model("Material", __base__=MaterialKeys,   # type: ignore[no-any-return]
+                        rheology=(_names(laws.RHEOLOGIES), ...),
+                        friction=(_names(laws.FRICTIONS), ...), **own)
+
+
+def _layer_model() -> type[LayerKeys]:
+    own = {k: (_key_type(spec) | None, None) for k, spec in laws.law_keys().items()}
+    return create_model("Layer", __base__=LayerKeys,   # type: ignore[no-any-return]
+                        rheology=(_names(laws.RHEOLOGIES) | None, ...),
+                        friction=(_names(laws.FRICTIONS) | None, ...), **own)
+
+
+def _law_floors() -> None:
+    for k, spec in laws.law_keys().items():
+        if spec.floor and spec.low is not None:
+            FLOORS[f"material.{k}"] = FLOORS[f"layer.{k}"] = Floor(spec.low, spec.floor)
+
+
+_law_floors()
+Material = _material_model()
+Layer = _layer_model()
 
 
 class RegisteredKind:
@@ -217,7 +244,7 @@ class Gate(_Section):
     enabled: bool
     speed_law: Literal["constant", "exponential"]  # U, or U (1 - exp(-t / tau))
     speed: Annotated[float, Field(ge=floor("gate.speed"), le=50)]  # U or U_inf (m/s)
-    tau: Annotated[float, Field(gt=0, le=100)]  # s, of the exponential law
+    tau: Annotated[float, Field(ge=floor("gate.tau"), le=100)]  # s, of the exponential law
     friction_deg: Angle  # Coulomb friction of the gate, mu_g = tan(angle)
 
 
@@ -280,7 +307,8 @@ class Numerics(_Section):
     initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
     anderson_depth: Annotated[int, Field(ge=0, le=10)]  # Anderson mixing of (3.2); 0 = off
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2
-    al_r: Literal["auto"] | Annotated[float, Field(gt=0, le=1e12)]  # augmentation r (Pa s)
+    al_r: Literal["auto"] | Annotated[float, Field(ge=floor("numerics.al_r"),
+                                                   le=1e12)]  # augmentation r (Pa s)
     fluidity_coupling: Literal["lagged", "iterated"]  # nonlocal: g per step or per iterate
 
     @property
@@ -354,5 +382,24 @@ SECTIONS: dict[str, type[_Section]] = {
     for name, field in ConfigModel.model_fields.items()
     if isinstance(field.annotation, type) and issubclass(field.annotation, _Section)
 }
+_BUILT_WITH = [laws.REGISTERED[0]]   # the registrations [material] and [layer] were made from
+
+
+def law_sections() -> None:
+    """Make [material] and [layer] again if a law registered since they were made: its
+    keys and its name join them, in ``SECTIONS`` and in every configuration model."""
+    if _BUILT_WITH[0] == laws.REGISTERED[0]:
+        return
+    global Material, Layer
+    _law_floors()
+    Material, Layer = _material_model(), _layer_model()
+    SECTIONS["material"], SECTIONS["layer"] = Material, Layer
+    models: list[type[BaseModel]] = [ConfigModel]
+    for model in models:                      # and every subclass (``Config``)
+        models += model.__subclasses__()
+        model.model_fields["material"].annotation = Material
+        model.model_fields["layer"].annotation = Layer
+        model.model_rebuild(force=True)
+    _BUILT_WITH[0] = laws.REGISTERED[0]
 
 

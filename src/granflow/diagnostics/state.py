@@ -8,8 +8,7 @@ import numpy as np
 from granflow.diagnostics.conservation import mesh_volume
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.sampling import cell_means
-
-FLOWING_SPEED = 1e-3  # m/s: a cell flows when |u| exceeds it (paper section 5.1.2)
+from granflow.simulation.rest import FLOWING_SPEED
 
 
 def flowing_cells(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,

@@ -46,5 +46,6 @@ def yield_ratio(deviatoric_norm: np.ndarray, yield_stress: np.ndarray) -> np.nda
     kappa = np.asarray(yield_stress, dtype=float)
     ratio = np.full(kappa.shape, np.nan)
     positive = kappa > 0
-    ratio[positive] = np.asarray(deviatoric_norm, dtype=float)[positive] / kappa[positive]
+    with np.errstate(over="ignore"):    # beyond the floats (kappa ~ 1e-300): inf, silently
+        ratio[positive] = np.asarray(deviatoric_norm, dtype=float)[positive] / kappa[positive]
     return ratio

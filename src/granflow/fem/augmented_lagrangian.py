@@ -55,14 +55,19 @@ velocity stood still, which is why the velocity decides.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
 
 import ngsolve as ngs
 
+from granflow.fem.coupling import Carriers, Coupling, Flow, Iteration, Site
 from granflow.fem.engine import NGSOLVE_OPS
-from granflow.fem.forms import Symbols, strain_rate
+from granflow.fem.forms import StressTerm, Symbols, strain_rate
 from granflow.fem.nonlinear import NonlinearSolver
 from granflow.physics import DruckerPrager
 from granflow.simulation.outcomes import IterationReport
+from granflow.state.spec import Share, array, assign, may_lack, number
 
 CONSTRAINT_TOL = 1e-2      # relative primal and dual residuals at convergence
 PRESSURE_TOL = 1e-3        # relative change of kappa's pressure p* at convergence (floor)
@@ -216,3 +221,76 @@ class AugmentedLagrangian:
         scale = math.sqrt(ngs.Integrate(p_star * p_star, p.space.mesh))
         moved = math.sqrt(ngs.Integrate((p - p_star) * (p - p_star), p.space.mesh))
         return moved / scale if scale > 0 else (0.0 if moved == 0 else math.inf)
+
+
+@dataclass(frozen=True)
+class AugmentedLagrangianSpec:
+    """The augmented Lagrangian method in place of the regularised law: r's starting value
+    (Pa s), then balanced."""
+
+    augmentation: float
+
+    def build(self, site: Site, fields: Mapping[str, Any]) -> AugmentedLagrangianCoupling:
+        if site.coordinates.axisymmetric:
+            raise ValueError("the augmented Lagrangian method is plane strain only")
+        return AugmentedLagrangianCoupling(site.mesh, self.augmentation)
+
+
+class AugmentedLagrangianCoupling(Coupling):
+    """d, lambda and r beside the flow: the stress of step 1 in the forms, the ALG2
+    iteration for the step, d, lambda and r kept at the step's start (restored on a
+    rejection), checkpointed and carried through a remesh."""
+
+    name = "augmented-lagrangian"
+
+    def __init__(self, mesh: ngs.Mesh, augmentation: float) -> None:
+        self.strain = ngs.GridFunction(tensor_space(mesh))       # d
+        self.multiplier = ngs.GridFunction(tensor_space(mesh))   # lambda
+        self.augmentation = ngs.Parameter(augmentation)           # r, balanced
+        self.augmented: AugmentedLagrangian | None = None         # once bound
+
+    def stress(self, stress: StressTerm, law: Any) -> StressTerm:
+        if not isinstance(law, DruckerPrager):
+            raise ValueError("the augmented Lagrangian method needs the Drucker-Prager law")
+        return AugmentedStress(law, self.augmentation, self.strain, self.multiplier)
+
+    def bind(self, flow: Flow) -> None:
+        self.augmented = AugmentedLagrangian(flow.rheology, self.augmentation, flow.nonlinear,
+                                             self.strain, self.multiplier)
+
+    def _iteration(self) -> AugmentedLagrangian:
+        assert self.augmented is not None, "bind the coupling to its flow first"
+        return self.augmented
+
+    def iteration(self, default: Iteration) -> Iteration:
+        return self._iteration().solve
+
+    def accept(self, dt: float) -> None:
+        self._iteration().remember()
+
+    def reject(self) -> None:
+        self._iteration().restore()
+
+    def share(self) -> Share:
+        return {"strain": array("strain dofs"), "multiplier": array("strain dofs"),
+                "augmentation": may_lack(number(0.0, above=True))}
+
+    def save(self) -> dict[str, object]:
+        return {"strain": self.strain.vec.FV().NumPy().copy(),
+                "multiplier": self.multiplier.vec.FV().NumPy().copy(),
+                "augmentation": self.augmentation.Get()}
+
+    def restore(self, state: Mapping[str, object]) -> None:
+        assign(self.strain.vec.FV().NumPy(), state["strain"], "the saved strain rate d")
+        assign(self.multiplier.vec.FV().NumPy(), state["multiplier"],
+               "the saved multiplier lambda")
+        if "augmentation" in state:
+            self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
+        self._iteration().remember()
+
+    def inherit(self, old: Coupling, carry: Carriers) -> None:
+        assert isinstance(old, AugmentedLagrangianCoupling)
+        carry.tensor(old.strain, self.strain)
+        carry.tensor(old.multiplier, self.multiplier)
+        self.augmentation.Set(old.augmentation.Get())
+        self._iteration().remember()

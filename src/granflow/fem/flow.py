@@ -1,48 +1,47 @@
 """The discrete flow state on one mesh and its time step (paper section 3.1): the terms of
-(3.2), the time scheme's history and inertia (``fem/time_scheme.py``), the nonlinear solve."""
+(3.2), the time scheme's history and inertia (``fem/time_scheme.py``), the nonlinear solve,
+and the fields coupled to the flow (``fem/coupling.py``), stepped with it. Built from
+frozen parts by ``fem/flow_factory.py: build_flow``."""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TypeVar
 
 import ngsolve as ngs
 
-from granflow.fem.augmented_lagrangian import (
-    AugmentedLagrangian,
-    AugmentedStress,
-    tensor_space,
-)
+from granflow.fem.coupling import Carriers, Coupling, Iteration
 from granflow.fem.engine import NGSOLVE_OPS
-from granflow.fem.fluidity import FluidityField
-from granflow.fem.forms import (
-    FrictionWall,
-    SurfaceTraction,
-    fixed_point_forms,
-    frobenius,
-    momentum_terms,
-    residual_form,
-)
-from granflow.fem.measure import PLANE, Coordinates
-from granflow.fem.nonlinear import FixedPointSystem, NonlinearSolver, ResidualSystem
-from granflow.fem.primal_dual import DualVariable
-from granflow.fem.spaces import taylor_hood, vector_p2
-from granflow.fem.time_scheme import TimeScheme, time_scheme
-from granflow.physics import DruckerPrager, Rheology, SideWallFriction
-from granflow.physics.composite import simple_laws
+from granflow.fem.flow_spec import Density, SolverChoice
+from granflow.fem.forms import Term, frobenius
+from granflow.fem.measure import Coordinates
+from granflow.fem.nonlinear import NonlinearSolver
+from granflow.fem.time_scheme import TimeScheme
+from granflow.physics import Rheology
 from granflow.simulation.outcomes import IterationReport
-from granflow.simulation.state_spec import FLAG, Share, array, assign, may_lack, number
+from granflow.state.spec import FLAG, Share, may_lack
 
-Carry = Callable[[ngs.GridFunction, ngs.GridFunction], None]   # (old field, new field)
-
-
-Density = float | ngs.CoefficientFunction   # kg/m^3: one material, or blended (two)
+C = TypeVar("C", bound=Coupling)
 
 
-def drucker_prager(law: Rheology) -> bool:
-    """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer, or
-    with a hysteretic friction: what the primal-dual correction is built for."""
-    return all(isinstance(part, DruckerPrager) for part in simple_laws(law))
+@dataclass(frozen=True)
+class FlowParts:
+    """What ``build_flow`` made on one mesh for the solver to hold."""
+
+    mesh: ngs.Mesh
+    space: ngs.FESpace
+    solution: ngs.GridFunction          # (u^{n+1,k}, p^{n+1,k})
+    scheme: TimeScheme
+    mesh_velocity: ngs.GridFunction     # w
+    surface_tension: ngs.GridFunction   # gamma of (2.11)/(3.8) at the vertices
+    rheology: Rheology
+    density: Density
+    coordinates: Coordinates
+    terms: Sequence[Term]
+    choice: SolverChoice
+    couplings: tuple[Coupling, ...]
 
 
 class FlowSolver:
@@ -50,79 +49,46 @@ class FlowSolver:
 
     All fields live on ``mesh``; moving its vertices moves them with it, which is how the
     previous velocity is carried by the nodes (u^n o A^{-1}) without interpolation.
+    ``couplings``: the fields coupled to the flow, stepped, saved and carried with it.
     """
 
-    def __init__(self, mesh: ngs.Mesh, *, rheology: Rheology, density: Density,
-                 body_force: tuple[float, float], periodic: bool = False,
-                 dirichlet: str = "", walls: Sequence[FrictionWall] = (),
-                 penalty: float = 0.0, linearization: str = "picard",
-                 linear_solver: str = "umfpack", initial_guess: str = "previous",
-                 surface_tension_on: str | None = None,
-                 side_walls: SideWallFriction | None = None,
-                 augmentation: float | None = None, scheme: str = "implicit-euler",
-                 coordinates: Coordinates = PLANE, axis: str = "",
-                 anderson_depth: int = 0, fluidity: FluidityField | None = None,
-                 fluidity_coupling: str = "lagged") -> None:
-        self.mesh = mesh
-        self.initial_guess = initial_guess
-        self.linearization = linearization
-        self.rheology = rheology
-        self.density = density
-        self.coordinates = coordinates
-        self.space = taylor_hood(mesh, periodic=periodic, dirichlet=dirichlet, axis=axis)
-        self.solution = ngs.GridFunction(self.space)    # (u^{n+1,k}, p^{n+1,k})
-        self.scheme: TimeScheme = time_scheme(scheme, self.space, density)
+    def __init__(self, parts: FlowParts, nonlinear: NonlinearSolver) -> None:
+        self.mesh, self.space, self.solution = parts.mesh, parts.space, parts.solution
+        self.scheme: TimeScheme = parts.scheme
         self.previous = self.scheme.previous                # (u^n, p^n)
         self.before_previous = self.scheme.before_previous  # (u^{n-1}, p^{n-1})
         self.dt = self.scheme.dt
-        self.mesh_velocity = ngs.GridFunction(vector_p2(mesh))
+        self.mesh_velocity, self.surface_tension = parts.mesh_velocity, parts.surface_tension
+        self.rheology, self.density = parts.rheology, parts.density
+        self.coordinates, self.terms = parts.coordinates, parts.terms
+        self.linearization = parts.choice.linearization
+        self.initial_guess = parts.choice.initial_guess
+        self.nonlinear = nonlinear
+        self.couplings = parts.couplings
         self.extrapolation_won = True           # "auto": which guess predicted the last step
         self._history_kept: dict[str, object] | None = None   # set aside by a restart
-        # gamma of (2.11)/(3.8) at the vertices, on the boundary ``surface_tension_on``
-        self.surface_tension = ngs.GridFunction(ngs.H1(mesh, order=1))
-        traction = (None if surface_tension_on is None
-                    else SurfaceTraction(surface_tension_on, self.surface_tension))
-        stress = None
-        if augmentation is not None:        # the augmented Lagrangian method, not (2.13)
-            if coordinates.axisymmetric:
-                raise ValueError("the augmented Lagrangian method is plane strain only")
-            if not isinstance(rheology, DruckerPrager):
-                raise ValueError("the augmented Lagrangian method needs the Drucker-Prager law")
-            self.strain = ngs.GridFunction(tensor_space(mesh))       # d
-            self.multiplier = ngs.GridFunction(tensor_space(mesh))   # lambda
-            self.augmentation = ngs.Parameter(augmentation)           # r, balanced
-            stress = AugmentedStress(rheology, self.augmentation, self.strain,
-                                     self.multiplier)
-        self.terms = momentum_terms(
-            density=density, inertia=self.scheme.inertia(),
-            mesh_velocity=self.mesh_velocity, rheology=rheology, body_force=body_force,
-            walls=walls, penalty=penalty, surface_traction=traction, side_walls=side_walls,
-            stress=stress, coords=coordinates)
-        freedofs = self.space.FreeDofs()
-        forms = fixed_point_forms(self.space, self.terms, self.solution, coordinates)
-        dual = correction = None
-        # the correction is built for the plane Drucker-Prager law; with another law (mu(I))
-        # or in axisymmetry "primal-dual" is the plain iteration (3.2) (docs/parameters.md)
-        if (linearization == "primal-dual" and augmentation is None
-                and drucker_prager(rheology) and not coordinates.axisymmetric):
-            dual = DualVariable(mesh, rheology, self.solution)
-            correction = dual.forms(self.space)
-        picard = FixedPointSystem(forms.iterate, forms.rhs, freedofs, linear_solver,
-                                  constant=forms.constant, correction=correction,
-                                  rhs_reads_iterate=forms.rhs_reads_iterate)
-        self.nonlinear = NonlinearSolver(
-            picard=picard,
-            newton=ResidualSystem(residual_form(self.space, self.terms, coordinates), freedofs,
-                                  linear_solver),
-            state=self.solution, dual=dual, anderson_depth=anderson_depth)
-        self.augmented = (None if augmentation is None else AugmentedLagrangian(
-            rheology, self.augmentation, self.nonlinear, self.strain, self.multiplier))
-        # the granular fluidity of a nonlocal law (fem/fluidity.py), solved with the flow
-        # of each accepted step ("lagged") or of each iterate ("iterated")
-        self.fluidity, self.fluidity_coupling = fluidity, fluidity_coupling
-        if fluidity is not None:
-            u, p = self.solution.components
-            fluidity.bind(u, p, self.mesh_velocity)
+        for coupling in self.couplings:
+            coupling.bind(self)
+        # a field solved with every iterate: its relative change joins the convergence test
+        self._iterating = tuple(c for c in self.couplings if c.iterates)
+        self.nonlinear.coupled = self._coupled_change if self._iterating else None
+        default: Iteration = {"newton": nonlinear.solve_newton,
+                              "hybrid": nonlinear.solve_hybrid}.get(self.linearization,
+                                                                     nonlinear.solve_picard)
+        self.iteration = default
+        for coupling in self.couplings:
+            self.iteration = coupling.iteration(self.iteration)
+        # Newton and the hybrid start from the extrapolation unless a coupling iterates
+        # the step its own way
+        self._own_iteration = self.iteration is not default
+
+    def _coupled_change(self) -> float:
+        """Each iterating coupling solved with the current iterate: the largest change."""
+        return max(c.iterate() for c in self._iterating)
+
+    def coupling(self, kind: type[C]) -> C | None:
+        """The coupling of this kind, or None when the run has none."""
+        return next((c for c in self.couplings if isinstance(c, kind)), None)
 
     @property
     def dt_previous(self) -> float:
@@ -154,15 +120,9 @@ class FlowSolver:
             self.predict(dt, self.solution)
         else:
             self.solution.vec.data = self.previous.vec
-        if self.augmented is not None:
-            return self.augmented.solve(tol, max_iterations, velocity_floor)
-        coupled = self.fluidity is not None and self.fluidity_coupling == "iterated"
-        self.nonlinear.coupled = (lambda: self.fluidity.solve(dt)) if coupled else None
-        if self.linearization in ("picard", "primal-dual"):
-            return self.nonlinear.solve_picard(tol, max_iterations, velocity_floor)
-        if self.linearization == "newton":
-            return self.nonlinear.solve_newton(tol, max_iterations, velocity_floor)
-        return self.nonlinear.solve_hybrid(tol, max_iterations, velocity_floor)
+        for coupling in self.couplings:
+            coupling.start_step(dt)
+        return self.iteration(tol, max_iterations, velocity_floor)
 
     def first_iterate_extrapolated(self) -> bool:
         """Whether the step starts from the linear extrapolation of the last two steps
@@ -178,7 +138,7 @@ class FlowSolver:
         if self.initial_guess == "auto":
             return self.extrapolation_won
         return self.initial_guess == "extrapolated" or (self.linearization in ("newton", "hybrid")
-                                                        and self.augmented is None)
+                                                        and not self._own_iteration)
 
     def predict(self, dt: float, out: ngs.GridFunction) -> None:
         """The time scheme's extrapolation of the history to t^n + dt."""
@@ -226,27 +186,22 @@ class FlowSolver:
         if self.initial_guess == "auto" and dt is not None and self.dt_previous > 0:
             self.extrapolation_won = (self._miss(dt, extrapolated=True)
                                       <= self._miss(dt, extrapolated=False))
-        if self.fluidity is not None:
-            if self.fluidity_coupling == "lagged":   # g^{n+1} with the step's flow
-                self.fluidity.solve(self.dt.Get())
-            self.fluidity.accept()
+        step = self.dt.Get()     # the step just solved (``dt`` may be None)
+        for coupling in self.couplings:
+            coupling.accept(step)
         self.scheme.accept(self.solution, dt)
         self._history_kept = None
-        if self.augmented is not None:
-            self.augmented.remember()
 
     def reject(self) -> None:
         """Back to the state at the start of the rejected step: the history a restart set
-        aside, and the augmented Lagrangian's d, lambda and r (a failed iteration's are no
-        start for the retry)."""
+        aside, and the couplings' states (a failed iteration's are no start for the
+        retry)."""
         if self._history_kept is not None:       # the step had restarted the history
             self.scheme.restore(self._history_kept)
             self._history_kept = None
         self.solution.vec.data = self.previous.vec
-        if self.augmented is not None:
-            self.augmented.restore()
-        if self.fluidity is not None:
-            self.fluidity.reject()
+        for coupling in self.couplings:
+            coupling.reject()
 
     def restart_history(self) -> None:
         """Forget the states before (u^n, p^n) for this step: the forcing jumped, so it is a
@@ -257,26 +212,19 @@ class FlowSolver:
         self.scheme.set_initial()
 
     def save_history(self) -> dict[str, object]:
-        """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads (and the
-        augmented Lagrangian's d and lambda, its next step's starting point)."""
+        """(u^n, p^n), (u^{n-1}, p^{n-1}) and dt_{n-1}: what the next step reads, and each
+        coupling's share (the augmented Lagrangian's d and lambda, a fluidity)."""
         state: dict[str, object] = self.scheme.save() | {
             "extrapolation_won": self.extrapolation_won}
-        if self.augmented is not None:
-            state["strain"] = self.strain.vec.FV().NumPy().copy()
-            state["multiplier"] = self.multiplier.vec.FV().NumPy().copy()
-            state["augmentation"] = self.augmentation.Get()
-        if self.fluidity is not None:
-            state["fluidity"] = self.fluidity.previous.vec.FV().NumPy().copy()
+        for coupling in self.couplings:
+            state |= coupling.save()
         return state
 
     def history_share(self) -> Share:
         """What the members of ``save_history`` may be (in a checkpoint)."""
         share = {**self.scheme.share, "extrapolation_won": may_lack(FLAG)}
-        if self.augmented is not None:
-            share |= {"strain": array("strain dofs"), "multiplier": array("strain dofs"),
-                      "augmentation": may_lack(number(0.0, above=True))}
-        if self.fluidity is not None:     # restore_history says if it is missing
-            share |= {"fluidity": may_lack(array("fluidity dofs"))}
+        for coupling in self.couplings:
+            share |= coupling.share()
         return share
 
     def restore_history(self, state: dict[str, object]) -> None:
@@ -284,38 +232,27 @@ class FlowSolver:
         self.scheme.restore(state)
         self.extrapolation_won = bool(state.get("extrapolation_won", True))
         self.solution.vec.data = self.previous.vec
-        if self.augmented is not None:
-            assign(self.strain.vec.FV().NumPy(), state["strain"], "the saved strain rate d")
-            assign(self.multiplier.vec.FV().NumPy(), state["multiplier"],
-                   "the saved multiplier lambda")
-            if "augmentation" in state:
-                self.augmentation.Set(float(state["augmentation"]))  # type: ignore[arg-type]
-            self.augmented.remember()
-        if self.fluidity is not None:
-            if "fluidity" not in state:
-                raise ValueError("this checkpoint was written without a nonlocal fluidity; "
-                                 "run the case again from the start")
-            self.fluidity.set(state["fluidity"])
+        for coupling in self.couplings:
+            coupling.restore(state)
 
-    def inherit(self, old: FlowSolver, carry: Carry, carry_tensor: Carry,
-                carry_vertices: Carry | None = None) -> None:
+    def inherit(self, old: FlowSolver, carry: Carriers) -> None:
         """Continue ``old``'s run on this solver's (new) mesh after a remesh: the time
-        scheme's history, the first iterate, the "auto" guess's choice, the augmented
-        Lagrangian's warm start (d, lambda, r) and a nonlocal law's fluidity.
-        ``carry(old_field, new_field)`` moves a Taylor-Hood state, ``carry_tensor`` a tensor
-        field, ``carry_vertices`` a continuous P1 field (``ale/transfer.py``)."""
-        self.scheme.inherit(old.scheme, carry)
+        scheme's history, the first iterate, the "auto" guess's choice and each coupling
+        (``carry`` moves the fields, ``ale/transfer.py``)."""
+        self.scheme.inherit(old.scheme, carry.state)
         self.solution.vec.data = self.previous.vec
         self.extrapolation_won = old.extrapolation_won
-        if old.augmented is not None and self.augmented is not None:
-            carry_tensor(old.strain, self.strain)
-            carry_tensor(old.multiplier, self.multiplier)
-            self.augmentation.Set(old.augmentation.Get())
-            self.augmented.remember()
-        if old.fluidity is not None and self.fluidity is not None:
-            assert carry_vertices is not None
-            carry_vertices(old.fluidity.previous, self.fluidity.previous)
-            self.fluidity.reject()
+        before = {c.name: c for c in old.couplings}
+        for coupling in self.couplings:
+            if coupling.name in before:
+                coupling.inherit(before[coupling.name], carry)
+
+    def reset_factorisations(self) -> None:
+        """Forget every symbolic LU: the flow's and its couplings' (after a checkpoint, so
+        that the run goes on as one resumed from it does)."""
+        self.nonlinear.reset_factorisations()
+        for coupling in self.couplings:
+            coupling.reset_factorisation()
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:

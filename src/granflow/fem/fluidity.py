@@ -9,7 +9,7 @@ with. Weak form with the section's measure (r-weighted in r-z, where the Laplaci
 axisymmetric field is (1/r) d_r(r d_r g) + d_zz g): zero flux wherever no condition is set
 (the free surface, walls), g = 0 on the ``dirichlet`` boundaries (a rough base). For a given
 flow the problem is linear and coercive; the coupling to the momentum is through the flow it
-reads (``FlowSolver``: once per accepted step, or at every iteration).
+reads (``FluidityCoupling``: once per accepted step, or at every iteration).
 
 Two materials (a column over a layer of its own) blend the coefficients with the
 per-triangle share of layer material, as their laws are blended (``physics/regions.py``).
@@ -18,18 +18,21 @@ per-triangle share of layer material, as their laws are blended (``physics/regio
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import ngsolve as ngs
 import numpy as np
 
+from granflow.fem.coupling import Carriers, Coupling, Flow, Site
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.linalg import ReusableLU
 from granflow.fem.measure import PLANE, Coordinates
 from granflow.fem.sampling import cell_means, vertex_samples
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.physics.regions import blend
-from granflow.simulation.state_spec import assign
+from granflow.state.spec import Share, array, assign, may_lack
 
 # The reaction, time and source terms on 6 interior points (order 4). I = gamma_dot d /
 # sqrt(P / rho_s) is singular where P -> 0: NGSolve's order-2 rule, which it picks for these
@@ -133,3 +136,88 @@ class FluidityField:
     def vertex_values(self) -> np.ndarray:
         """The accepted g at every vertex (periodic copies included)."""
         return vertex_samples(self.mesh, self.previous)
+
+
+@dataclass(frozen=True)
+class FluiditySpec:
+    """The fluidity of a run's nonlocal laws (one, or a column's and its layer's, blended
+    with the share of layer material the couplings before it hand the law): g = 0 on the
+    boundaries ``dirichlet``, solved once per accepted step (``iterated`` False: the
+    momentum of a step reads g^n) or with every iterate; ``initial``: g at t = 0 (a
+    coefficient function; None: 0)."""
+
+    laws: tuple[NonlocalFluidity, ...]
+    dirichlet: str = ""
+    iterated: bool = False
+    initial: Any = None
+
+    def build(self, site: Site, fields: Mapping[str, Any]) -> FluidityCoupling:
+        field = FluidityField(site.mesh, laws=self.laws, fraction=fields.get("share"),
+                              coords=site.coordinates, periodic=site.periodic,
+                              dirichlet=self.dirichlet, solver=site.linear_solver)
+        if self.initial is not None:
+            field.set(self.initial)
+        return (IteratedFluidity if self.iterated else FluidityCoupling)(field)
+
+
+class FluidityCoupling(Coupling):
+    """The fluidity beside the flow: the nonlocal law reads g (``current``); g^{n+1} is
+    solved with the accepted step's flow, kept in the checkpoint and carried through a
+    remesh at the vertices."""
+
+    name = "fluidity"
+    share_of_checkpoint: Share = {"fluidity": may_lack(array("fluidity dofs"))}
+
+    def __init__(self, field: FluidityField) -> None:
+        self.field = field
+
+    def law_fields(self) -> Mapping[str, Any]:
+        return {"fluidity": self.field.current}
+
+    def bind(self, flow: Flow) -> None:
+        u, p = flow.solution.components
+        self.field.bind(u, p, flow.mesh_velocity)
+
+    def accept(self, dt: float) -> None:
+        self.field.solve(dt)             # g^{n+1} with the step's flow
+        self.field.accept()
+
+    def reject(self) -> None:
+        self.field.reject()
+
+    def share(self) -> Share:
+        return self.share_of_checkpoint      # restore says if it is missing
+
+    def save(self) -> dict[str, object]:
+        return {"fluidity": self.field.previous.vec.FV().NumPy().copy()}
+
+    def restore(self, state: Mapping[str, object]) -> None:
+        if "fluidity" not in state:
+            raise ValueError("this checkpoint was written without a nonlocal fluidity; "
+                             "run the case again from the start")
+        self.field.set(state["fluidity"])
+
+    def inherit(self, old: Coupling, carry: Carriers) -> None:
+        assert isinstance(old, FluidityCoupling)
+        carry.vertices(old.field.previous, self.field.previous)
+        self.field.reject()
+
+    def reset_factorisation(self) -> None:
+        self.field.reset_factorisation()
+
+
+class IteratedFluidity(FluidityCoupling):
+    """The fluidity solved with every iterate of the nonlinear solve, its relative change
+    joining the convergence test (``numerics.fluidity_coupling = "iterated"``)."""
+
+    iterates = True
+    _dt = 0.0
+
+    def start_step(self, dt: float) -> None:
+        self._dt = dt
+
+    def iterate(self) -> float:
+        return self.field.solve(self._dt)
+
+    def accept(self, dt: float) -> None:
+        self.field.accept()

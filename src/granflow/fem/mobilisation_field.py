@@ -20,11 +20,15 @@ the mesh's own move (3.1).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
 from scipy import sparse
 
+from granflow.fem.coupling import Coupling, Site
 from granflow.fem.sampling import cell_means
 from granflow.physics.hysteresis import Relaxation
 
@@ -88,3 +92,25 @@ class MobilisationField:
     def relax(self, relaxation: Relaxation, shear_rate: np.ndarray, dt: float) -> None:
         """s after dt of relaxation at the given shear rates (``Relaxation.relax``)."""
         self.values[:] = relaxation.relax(self.values, shear_rate, dt)
+
+
+@dataclass(frozen=True)
+class MobilisationSpec:
+    """A hysteretic friction's state on each mesh of a run."""
+
+    def build(self, site: Site, fields: Mapping[str, Any]) -> MobilisationCoupling:
+        return MobilisationCoupling(MobilisationField(site.mesh))
+
+
+class MobilisationCoupling(Coupling):
+    """The mobilisation s the hysteretic law reads (its field and its cell values). It is
+    advanced, carried through a remesh and checkpointed by the run's callback
+    (``scenarios/mobilisation_tracking.py``), after each accepted step."""
+
+    name = "mobilisation"
+
+    def __init__(self, field: MobilisationField) -> None:
+        self.field = field
+
+    def law_fields(self) -> Mapping[str, Any]:
+        return {"mobilisation": self.field.cf, "per_triangle": self.field.state}

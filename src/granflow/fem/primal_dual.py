@@ -31,13 +31,18 @@ lambda lives at the quadrature points of the viscoplastic term (the three edge m
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
 import ngsolve as ngs
 import numpy as np
 from ngsolve.comp import IntegrationRuleSpace
 
+from granflow.fem.coupling import Coupling, Flow, Site
 from granflow.fem.forms import strain_rate
 from granflow.physics import DruckerPrager, Rheology
-from granflow.physics.composite import blended, cell_share
+from granflow.physics.composite import blended, cell_share, simple_laws
 
 COMPONENTS = ((0, 0), (0, 1), (1, 1))   # a symmetric 2x2 tensor stored as xx, xy, yy
 WEIGHTS = np.array([1.0, 2.0, 1.0])      # Frobenius A : B of two tensors so stored
@@ -178,3 +183,32 @@ def _yield_slope(law: Rheology) -> float | np.ndarray:
 def _drucker_prager_slope(law: Rheology) -> float:
     assert isinstance(law, DruckerPrager)
     return law.yield_stress(1.0)        # type: ignore[no-any-return]
+
+
+def drucker_prager(law: Rheology) -> bool:
+    """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer, or
+    with a hysteretic friction: what the primal-dual correction is built for."""
+    return all(isinstance(part, DruckerPrager) for part in simple_laws(law))
+
+
+@dataclass(frozen=True)
+class PrimalDualSpec:
+    """``numerics.linearization = "primal-dual"``: the dual correction joins (3.2)."""
+
+    def build(self, site: Site, fields: Mapping[str, Any]) -> PrimalDualCoupling:
+        return PrimalDualCoupling()
+
+
+class PrimalDualCoupling(Coupling):
+    """The dual variable lambda beside the fixed-point iteration: built for the plane
+    Drucker-Prager law (2 x 2 tensors); with another law (mu(I)), in axisymmetry or in 3D
+    "primal-dual" is the plain iteration (3.2) (docs/parameters.md). It holds no state
+    across steps."""
+
+    name = "primal-dual"
+
+    def corrections(self, flow: Flow) -> tuple[DualVariable, ...]:
+        plane = flow.coordinates.dimension == 2 and not flow.coordinates.axisymmetric
+        if not drucker_prager(flow.rheology) or not plane:
+            return ()
+        return (DualVariable(flow.mesh, flow.rheology, flow.solution),)

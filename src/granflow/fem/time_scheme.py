@@ -28,7 +28,7 @@ from typing import ClassVar
 import ngsolve as ngs
 
 from granflow.fem.forms import BackwardDifferenceInertia, Inertia, Term
-from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack
+from granflow.state.spec import TIME, Share, array, assign, may_lack
 
 SHORT_STEP = 0.25  # a step shorter than this x the history's span does not replace it
 SCHEMES = ("implicit-euler", "bdf2")

@@ -16,8 +16,8 @@ import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.io.run_dir import atomic_file  # noqa: E402
+from granflow.simulation.rest import FLOWING_SPEED  # noqa: E402
 
 FRAME_MS = 100         # display time of a frame (0.02 s of flow: a fifth of real time)
 WIDTH_IN = 8.0         # figure width (inches); the height follows the cropped extent

@@ -21,6 +21,7 @@ import dataclasses
 import importlib
 import io
 import json
+import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -35,9 +36,13 @@ from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
 
 CHECKPOINT_FILE = "checkpoint/state.npz"
 LEGACY_CHECKPOINT_FILE = "checkpoint/state.pkl"
-# the members a state names, together: the largest mesh allowed (100,000 triangles)
-# needs ~100 MB; members it does not name are never read
+# what reading a checkpoint may decode, in all: its state's JSON and the members the state
+# names, together (the largest mesh allowed, 100,000 triangles, needs ~100 MB); members it
+# does not name are never read
 CHECKPOINT_LIMIT = 512 * MB
+# the state's own JSON (its counts, times and lists; the arrays are members): about 50 kB
+# for a thousand steps, and it grows with the run's events only
+STATE_JSON_LIMIT = 32 * MB
 READABLE_VERSIONS = (2, STATE_VERSION)
 _STATE_ENTRY = "__state__"
 # the dataclasses a run state holds, by "module:name"; nothing else is ever constructed
@@ -78,14 +83,20 @@ def read_checkpoint(root: Path) -> SimulationState:
                               "interrupted, when it fails and when it ends")
     try:
         data = read_bytes(path, CHECKPOINT_LIMIT)
-        state = load_npz(data, path, CHECKPOINT_LIMIT, names=[_STATE_ENTRY])[_STATE_ENTRY]
+        declared = _declared_size(data, _STATE_ENTRY)
+        if declared > STATE_JSON_LIMIT:
+            raise CheckpointError(f"the checkpoint '{path}' declares a state of {declared} "
+                                  f"bytes (at most {STATE_JSON_LIMIT // MB} MB; a run's is "
+                                  "tens of kB)")
+        state = load_npz(data, path, STATE_JSON_LIMIT, names=[_STATE_ENTRY])[_STATE_ENTRY]
         if state.dtype != np.uint8 or state.ndim != 1:
             raise ValueError(f"it has no {_STATE_ENTRY} entry")
         tree = json.loads(state.tobytes().decode("utf-8"))
         if not isinstance(tree, dict) or tree.get("version") not in READABLE_VERSIONS:
             raise CheckpointError(f"the checkpoint '{path}' was written by another version "
                                   "of granflow; rerun the case")
-        arrays = load_npz(data, path, CHECKPOINT_LIMIT, names=sorted(_named_members(tree)))
+        arrays = load_npz(data, path, CHECKPOINT_LIMIT, names=sorted(_named_members(tree)),
+                          spent=state.nbytes)        # the cap is on the state and them
         parts = [_decode(tree.get(part), arrays) for part in ("loop", "scenario", "outputs")]
         if not all(isinstance(part, dict) for part in parts):
             raise ValueError("its state is not made of the loop's, the scenario's and the "
@@ -98,6 +109,17 @@ def read_checkpoint(root: Path) -> SimulationState:
     except Exception as exc:  # a truncated, foreign or tampered file; too deep a nesting
         raise CheckpointError(f"cannot read the checkpoint '{path}': "
                               f"{type(exc).__name__}: {str(exc)[:300]}") from None
+
+
+def _declared_size(data: bytes, name: str) -> int:
+    """The size the archive ``data`` declares for its member ``name`` (0 if it has none, or
+    is no archive: ``load_npz`` then says what it is)."""
+    try:
+        with zipfile.ZipFile(io.BytesIO(data)) as archive:
+            found = [i for i in archive.infolist() if i.filename == f"{name}.npy"]
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError):
+        return 0
+    return found[0].file_size if found else 0
 
 
 def pickle_refusal(root: Path) -> str:

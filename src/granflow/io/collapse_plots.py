@@ -22,7 +22,6 @@ import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from granflow.diagnostics.state import FLOWING_SPEED  # noqa: E402
 from granflow.geometry.section import Section  # noqa: E402
 from granflow.io import profiles  # noqa: E402
 from granflow.io.animation import animate  # noqa: E402
@@ -30,6 +29,7 @@ from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.frames import read_frames  # noqa: E402
 from granflow.io.plots import FigureFormat  # noqa: E402
 from granflow.io.run_dir import RunDir, RunDirError  # noqa: E402
+from granflow.simulation.rest import FLOWING_SPEED  # noqa: E402
 
 STATIC, FLOWING = "0.62", "#bcd7ee"        # fills of the static and flowing zones
 MARKED = 100      # events marked a line each on the time axis; more are counted only

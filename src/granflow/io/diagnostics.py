@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from granflow.io.run_dir import CsvLog, RunDir, atomic_write_bytes
 from granflow.io.untrusted import RunDirError, is_regular, read_text
-from granflow.simulation.state_spec import COUNT, Share, may_lack
+from granflow.state.spec import COUNT, Share, may_lack
 
 if TYPE_CHECKING:
     import pandas as pd

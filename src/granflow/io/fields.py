@@ -2,10 +2,9 @@
 times, every ``output.vtk_every`` steps and at the last accepted state); the file format,
 its index and its reader are ``io/vtk.py``.
 
-Point data: velocity (m/s), pressure (Pa). Cell data (means over each triangle): speed
-(m/s), strain_rate_norm (1/s), effective_viscosity (Pa s), the flowing flag (speed above
-1 mm/s), the stress stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder) and
-deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``); then the cell
+What a snapshot holds of the flow is read through the ``FlowFields`` protocol (the flow's
+own, ``diagnostics/flow_fields.py``: velocity and pressure at the vertices, the speed, the
+strain rate, the viscosity, the stress and the yield ratio per triangle); then the cell
 data the problem's parts declare (``simulation/outputs.py``): with a layer of its own
 material layer_fraction (the share of layer material in each triangle), with a hysteretic
 friction mobilisation (the state s of ``physics/hysteresis.py``).
@@ -14,25 +13,29 @@ friction mobilisation (the state s of ``physics/hysteresis.py``).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar, NamedTuple, Protocol
 
-import ngsolve as ngs
 import numpy as np
 
-from granflow.diagnostics.state import FLOWING_SPEED
-from granflow.diagnostics.stress import static_yield_stress, stress_components, yield_ratio
-from granflow.fem.flow import FlowSolver
-from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.io.run_dir import RunDir
 from granflow.io.vtk import FOLDER, VtkSeries
-from granflow.simulation.state_spec import TIME, Share, list_of, may_lack, text, tuple_of
+from granflow.state.spec import TIME, Share, list_of, may_lack, text, tuple_of
 
 
-class FlowState(Protocol):
-    """Where the current mesh and flow live (a remesh replaces both)."""
+class Snapshot(NamedTuple):
+    """The fields of one snapshot: the vertices (n, dim) and triangles (m, 3) of the mesh,
+    values per vertex and per triangle by name."""
 
-    mesh: ngs.Mesh
-    solver: FlowSolver
+    points: np.ndarray
+    cells: np.ndarray
+    point_data: dict[str, np.ndarray]
+    cell_data: dict[str, np.ndarray]
+
+
+class FlowFields(Protocol):
+    """The flow as a snapshot reads it, on its current mesh (a remesh replaces it)."""
+
+    def snapshot(self) -> Snapshot: ...
 
 
 class FieldSnapshots:
@@ -43,33 +46,20 @@ class FieldSnapshots:
     share: ClassVar[Share] = {"vtk_entries": may_lack(list_of(tuple_of(      # of a checkpoint
         TIME, text(r"fields_\d{5,9}\.vtu", "a snapshot's name fields_NNNNN.vtu"))))}
 
-    def __init__(self, run_dir: RunDir, state: FlowState,
+    def __init__(self, run_dir: RunDir, flow: FlowFields,
                  resume: Mapping[str, Any] | None = None,
                  cell_data: Callable[[], dict[str, np.ndarray]] | None = None) -> None:
-        self.state, self.cell_data = state, cell_data
+        self.flow, self.cell_data = flow, cell_data
         self.series = VtkSeries(run_dir.path(FOLDER),
                                 place=lambda name: run_dir.path(f"{FOLDER}/{name}"))
         self.series.entries = list(resume.get("vtk_entries", [])) if resume else []
 
     def write(self, t: float) -> None:
-        """Velocity, pressure, |Du|, effective viscosity, the flowing flag, the stress and
-        the yield ratio at time t."""
-        solver, mesh = self.state.solver, self.state.mesh
-        speed, _ = cell_means(mesh, ngs.Norm(solver.velocity))
+        """The flow's fields and the problem's own cell data at time t."""
+        shot = self.flow.snapshot()
         own = self.cell_data() if self.cell_data is not None else {}
-        stress = {name: cell_means(mesh, cf)[0]
-                  for name, cf in stress_components(solver).items()}
-        kappa = cell_means(mesh, static_yield_stress(solver.rheology, solver.pressure))[0]
-        stress["yield_ratio"] = yield_ratio(stress["deviatoric_stress_norm"], kappa)
-        self.series.write(
-            t, mesh.ngmesh.Coordinates().copy(), triangles(mesh),
-            point_data={"velocity": vertex_samples(mesh, solver.velocity),
-                        "pressure": vertex_samples(mesh, solver.pressure)},
-            cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,
-                       "strain_rate_norm": cell_means(mesh, solver.strain_rate_norm())[0],
-                       "effective_viscosity":
-                           cell_means(mesh, solver.effective_viscosity())[0],
-                       **stress, **own})
+        self.series.write(t, shot.points, shot.cells, point_data=shot.point_data,
+                          cell_data={**shot.cell_data, **own})
 
     def write_last(self, t: float) -> None:
         """A snapshot at ``t`` unless the last one already is at that time."""

@@ -17,7 +17,7 @@ import numpy as np
 
 from granflow.io.run_dir import RunDir
 from granflow.io.untrusted import MB, RunDirError, load_npz, read_bytes
-from granflow.simulation.state_spec import COUNT, Share, may_lack
+from granflow.state.spec import COUNT, Share, may_lack
 
 FRAMES = "frames"
 INTERVAL_S = 0.02   # simulated time between frames

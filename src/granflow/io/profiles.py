@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from granflow.diagnostics.compare import surface_distance
+from granflow.geometry.polylines import surface_distance
 from granflow.io.run_dir import RunDir
 from granflow.io.untrusted import RunDirError, read_text
 
@@ -119,7 +119,7 @@ def surface_distances(first: Path, second: Path, kind: str = "free_surface",
                       times: Sequence[float] | None = None,
                       common_extent: bool = False) -> dict[float, tuple[float, float]]:
     """(mean, max) distance in m between the ``kind`` curves of two runs at each output
-    time both wrote (``diagnostics/compare.py``). With ``common_extent`` both curves are cut
+    time both wrote (``geometry/polylines.py``). With ``common_extent`` both curves are cut
     where the shorter one ends in X (an erodible layer meshed only ahead of the flow ends
     its free surface at the meshed end; the whole layer's goes on, flat)."""
     a, b = curves(first, kind, times), curves(second, kind, times)

@@ -49,8 +49,11 @@ RUN_FOLDERS = {
     "plots": re.compile(r"[A-Za-z0-9_-]+\.(png|pdf|svg|gif)|error\.txt"),
     "checkpoint": re.compile(r"state\.(npz|pkl)"),
 }
-# temporary files: those of io/atomic.py and the fixed names of earlier versions
-TEMPORARY = re.compile(r"\..+\.tmp(\.[A-Za-z0-9]+)?|\.granflow\.lock\.probe")
+# temporary files: those of io/atomic.py (".NAME.<8 random>.tmp.SUFFIX" beside NAME) and the
+# fixed names of earlier versions (".NAME.tmp", ".STEM.tmp.SUFFIX"); one is a run's only when
+# the file it stands for is one the manifest lists (``temporary_of``)
+TEMPORARY = re.compile(r"\.(?P<target>.+?)(?P<random>\.[a-z0-9_]{8})?\.tmp"
+                       r"(?P<suffix>\.[A-Za-z0-9]+)?")
 SUMMARY_LIMIT = 16 * MB
 CHECKPOINT = "checkpoint/state.npz"
 
@@ -148,20 +151,24 @@ class RunDir:
             self._listed = set(text.splitlines())
         return self._listed
 
-    def adopt_layout(self) -> None:
+    def has_manifest(self) -> bool:
+        """Whether the folder lists what its runs wrote (a run of granflow 0.2 on)."""
+        return os.path.lexists(self.root / MANIFEST)
+
+    def adopt_layout(self, names: Iterable[str]) -> None:
         """In a folder without a manifest (a run of an earlier granflow, being resumed),
-        list the files of the layout it holds: they are that run's, and a later --force
-        deletes them with the resumed session's."""
-        if os.path.lexists(self.root / MANIFEST):
+        list those of ``names`` it holds: the files that run's own records name (its
+        files, its checkpoint, the snapshots and frames its state counts, the profiles of
+        its output times; ``app/resume.py``), which a later --force deletes with the resumed
+        session's. A user's file of a layout-like name is none of them."""
+        if self.has_manifest():
             return
-        found = [name for name in RUN_FILES if is_regular(self.root / name)]
-        for folder, names in RUN_FOLDERS.items():
-            path = self.root / folder
-            if path.is_dir() and not path.is_symlink():
-                found += [f"{folder}/{e.name}" for e in sorted(path.iterdir())
-                          if names.fullmatch(e.name) and is_regular(e)]
-        for entry in found:
-            self._record(entry)
+        for entry in names:
+            parts = entry.split("/")
+            folder = self.root / parts[0]
+            if _of_the_layout(entry) and (len(parts) == 1 or not folder.is_symlink()) and \
+                    is_regular(self.root / entry):
+                self._record(entry)
 
     def written(self, pattern: str) -> list[Path]:
         """The files of the layout the manifest lists whose paths match ``pattern`` (a
@@ -204,12 +211,15 @@ class RunDir:
                                   "it or choose another run directory")
 
     def remove_temporary_files(self) -> None:
-        """The temporary files a killed run left behind (never renamed into place)."""
-        for folder in (self.root, *(self.root / f for f in RUN_FOLDERS)):
-            if not folder.is_dir() or folder.is_symlink():
+        """The temporary files a killed run left behind (never renamed into place): those
+        of files the manifest lists, nothing named like them by anyone else."""
+        for folder in ("", *RUN_FOLDERS):
+            path = self.root / folder
+            if not path.is_dir() or path.is_symlink():
                 continue
-            for entry in folder.iterdir():
-                if TEMPORARY.fullmatch(entry.name) and not _is_folder(entry):
+            for entry in path.iterdir():
+                targets = [f"{folder}/{t}" if folder else t for t in temporary_of(entry.name)]
+                if any(t in self.listed() for t in targets) and not _is_folder(entry):
                     _unlink(entry)
 
     @contextlib.contextmanager
@@ -350,9 +360,21 @@ def _of_the_layout(entry: str) -> bool:
     the run directory."""
     parts = entry.split("/")
     if len(parts) == 1:
-        return entry in RUN_FILES or entry in RUN_FOLDERS or bool(TEMPORARY.fullmatch(entry))
+        return entry in RUN_FILES or entry in RUN_FOLDERS
     return len(parts) == 2 and parts[0] in RUN_FOLDERS and bool(
-        RUN_FOLDERS[parts[0]].fullmatch(parts[1]) or TEMPORARY.fullmatch(parts[1]))
+        RUN_FOLDERS[parts[0]].fullmatch(parts[1]))
+
+
+def temporary_of(name: str) -> list[str]:
+    """The names of the files that ``name`` may be the temporary file of (``TEMPORARY``),
+    none if it is no temporary name."""
+    found = TEMPORARY.fullmatch(name)
+    if found is None:
+        return []
+    target, suffix = found["target"], found["suffix"] or ""
+    if found["random"]:                       # io/atomic.py: the target's own suffix
+        return [target] if Path(target).suffix == suffix else []
+    return [target + suffix] if suffix else [target]
 
 
 def _is_folder(path: Path) -> bool:

@@ -90,12 +90,12 @@ def parse_xml(data: bytes, path: Path) -> Any:
 
 
 def load_npz(data: bytes, path: Path, member_limit: int,
-             names: Collection[str] | None = None) -> dict[str, np.ndarray]:
+             names: Collection[str] | None = None, spent: int = 0) -> dict[str, np.ndarray]:
     """The arrays of the NumPy archive ``data`` (of ``path``), each checked before it is
     read: a plain name, its declared size at most ``member_limit`` bytes and consistent with
     its header's shape, no object dtype (never pickle). With ``names``, only those members
-    are read (each must be there), and their declared sizes add up to at most
-    ``member_limit``."""
+    are read (each must be there), and their declared sizes and ``spent`` (bytes read
+    already) add up to at most ``member_limit``."""
     arrays = {}
     try:
         with zipfile.ZipFile(io.BytesIO(data)) as archive:
@@ -104,7 +104,7 @@ def load_npz(data: bytes, path: Path, member_limit: int,
                 raise RunDirError(f"'{path}' holds {len(members)} arrays; a granflow file "
                                   f"holds at most {ARCHIVE_MEMBERS}")
             if names is not None:
-                members = _named(members, names, path, member_limit)
+                members = _named(members, names, path, member_limit, spent)
             for info in members:
                 name = _member_name(info, path, member_limit)    # checked before it is read
                 arrays[name] = _read_member(archive, info, path)
@@ -115,17 +115,19 @@ def load_npz(data: bytes, path: Path, member_limit: int,
 
 
 def _named(members: list[zipfile.ZipInfo], names: Collection[str], path: Path,
-           limit: int) -> list[zipfile.ZipInfo]:
-    """The members called ``names`` (+ ".npy"), their sizes within ``limit`` together."""
+           limit: int, spent: int = 0) -> list[zipfile.ZipInfo]:
+    """The members called ``names`` (+ ".npy"), their sizes and ``spent`` within ``limit``
+    together."""
     by_name = {info.filename.removesuffix(".npy"): info for info in members}
     missing = sorted(set(names) - set(by_name))
     if missing:
         raise RunDirError(f"'{path}' lacks the member {missing[0][:60]!r} its state names")
     chosen = [by_name[name] for name in names]
-    total = sum(info.file_size for info in chosen)
+    total = spent + sum(info.file_size for info in chosen)
     if total > limit:
-        raise RunDirError(f"'{path}': the members its state names declare {total} bytes "
-                          f"together (at most {limit // MB} MB)")
+        what = "the members its state names" + (" and the state" if spent else "")
+        raise RunDirError(f"'{path}': {what} declare {total} bytes together (at most "
+                          f"{limit // MB} MB)")
     return chosen
 
 

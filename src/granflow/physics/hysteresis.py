@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from granflow.physics.composite import composites
-from granflow.physics.laws import Law, LawFields, register_friction
+from granflow.physics.laws import Key, Law, LawFields, register_friction
 from granflow.physics.mu_i import MuI
 from granflow.physics.ops import NUMPY_OPS, Ops
 from granflow.physics.regions import blend
@@ -71,7 +71,8 @@ class Relaxation:
         sheared = self.sheared(shear_rate)
         target = sheared.astype(float)
         tau = np.where(sheared, self.mobilisation_time, self.rest_time)
-        return target + (np.asarray(s, dtype=float) - target) * np.exp(-dt / tau)
+        with np.errstate(over="ignore", under="ignore"):   # dt >> tau: exp(-inf) = 0
+            return target + (np.asarray(s, dtype=float) - target) * np.exp(-dt / tau)
 
 
 def relaxed(s0: float, target: float, tau: float, t: float) -> float:
@@ -181,14 +182,48 @@ def _hysteretic(m: Any, eps: float, fields: LawFields, flow: Any) -> Hysteretic:
                       initial=m.initial_mobilisation)
 
 
-def _checks(material: Any, section: str) -> Iterator[str]:
-    """The friction at rest at least the flowing one."""
+CREEP_MARGIN = 100.0   # mobilisation_shear_rate / eps at least: the creep of (2.13) at rest,
+                       # eps ratio / sqrt(1 - ratio^2), passes it only within 5e-5 of yield
+
+
+def _checks(material: Any, section: str, eps: float) -> Iterator[str]:
+    """The friction at rest at least the flowing one; a threshold far above the
+    regularisation's creep."""
     if material.start_friction_angle_deg < material.friction_angle_deg:
         yield (f"{section}.start_friction_angle_deg = {material.start_friction_angle_deg!r} "
                f"must be at least the friction angle {material.friction_angle_deg!r} (the "
                "friction at rest is the larger)")
+    if material.mobilisation_shear_rate < CREEP_MARGIN * eps:
+        yield (f"{section}.mobilisation_shear_rate = {material.mobilisation_shear_rate!r} must "
+               f"be at least {CREEP_MARGIN:g} x numerics.eps = {CREEP_MARGIN * eps:.3g} "
+               "(material at rest creeps at rates of order eps and must not count as sheared)")
 
 
-HYSTERETIC = register_friction(Law(
-    "hysteretic", ("start_friction_angle_deg", "mobilisation_time", "rest_time",
-                   "mobilisation_shear_rate", "initial_mobilisation"), _hysteretic, _checks))
+MICROSECOND = ("a microsecond: a thousandth of the time sqrt(d / g) of grains of 10 "
+               "micrometres")
+KEYS = {
+    "start_friction_angle_deg": Key(
+        27.5, "hysteretic: mu_start = tan(angle), the friction at rest; at least "
+              "friction_angle_deg. 27.5 = 25.5 + the 2 deg between the glass beads' avalanche "
+              "(25.5) and repose (23.5) angles (Mangeney et al. 2010; Farin et al. 2014)",
+        low=0, below=90),
+    "mobilisation_time": Key(
+        0.02, "hysteretic: tau_m (s), the time sheared material takes to reach mu_flow "
+              "(s -> 1); 0.02 s ~ 3 sqrt(d/g) for d = 0.5 mm", low=1e-6, high=1e4,
+        floor=MICROSECOND),
+    "rest_time": Key(
+        0.02, "hysteretic: tau_r (s), the time material at rest takes to regain mu_start "
+              "(s -> 0); a few sqrt(d/g), d = grain_diameter", low=1e-6, high=1e4,
+        floor=MICROSECOND),
+    "mobilisation_shear_rate": Key(
+        1.0, "hysteretic: material is sheared where sqrt(2) |Du| (|du/dz| in simple shear) "
+             "exceeds this (1/s); at least 100 numerics.eps (the regularised law creeps at "
+             "rates ~ eps at rest). 1 1/s: in the rectangle's collapse, cells slower than "
+             "1 mm/s shear at most at 0.335 1/s, flowing ones at 4-12 1/s "
+             "(benchmarks/hysteresis.py)", above=0, high=1e6),
+    "initial_mobilisation": Key(0.0, "hysteretic: s at t = 0 (0: at rest, 1: flowing)",
+                                low=0, high=1),
+}
+
+HYSTERETIC = register_friction(Law("hysteretic", KEYS, _hysteretic, _checks,
+                                   words="the hysteretic friction"))

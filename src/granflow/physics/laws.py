@@ -1,58 +1,132 @@
-"""The laws as a configuration names them. Each law registers, at the end of its own module,
-the value that selects it (``material.rheology``, or ``material.friction`` for a friction
-that wraps the flow law), the keys of ``[material]`` (and ``[layer]``) that only it reads,
-its checks of one material, and how it is built from a material's keys; the configuration
-(``config/rules.py``) and the builders (``scenarios/materials.py``) read this registry and
-name no law. A material is any object with the keys as attributes (the configuration's
-``Material``); a check yields one line per problem, naming the key.
+"""The laws as a configuration names them. Each law registers whole, at the end of its own
+module: the value that selects it (``material.rheology``, or ``material.friction`` for a
+friction that wraps the flow law), the keys of ``[material]`` (and ``[layer]``) that only it
+reads with their types, ranges, defaults and meaning (``Key``), the other keys it reads, its
+checks of one material and how it is built from a material's keys; a 1D reference of a
+periodic layer, where it has one, is attached to it by the reference's module
+(``register_reference``). The configuration's schema, rules and parameters page
+(``config/``), the builders (``scenarios/materials.py``) and the periodic layer's reference
+read this registry and name no law. A material is any object with the keys as attributes
+(the configuration's ``Material``); a check yields one line per problem, naming the key.
 
 Composite laws are unwrapped in ``composite.py``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+import dataclasses
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 
 @dataclass(frozen=True)
 class LawFields:
     """The fields a law may read where it is evaluated: the nonlocal fluidity g, the
-    mobilisation s of a hysteretic friction and s per triangle (engine objects or numbers)."""
+    mobilisation s of a hysteretic friction and s per triangle, and the share of layer
+    material per triangle that blends two materials (engine objects or numbers; the fields
+    coupled to the flow hand them, ``fem/coupling.py``)."""
 
     fluidity: Any = 0.0
     mobilisation: Any = 0.0
     per_triangle: Any = None
+    share: Any = None
 
 
-def _no_checks(material: Any, section: str) -> Iterator[str]:
+@dataclass(frozen=True)
+class Key:
+    """A key of ``[material]`` (and, unset by default, of ``[layer]``) that a law reads:
+    its default, its meaning (one line, for the parameters page), its range (``low`` <=
+    value <= ``high``, ``above`` < value < ``below``; ``floor``: why ``low`` is the
+    smallest physical value of a key whose natural bound is 0) and the words it accepts
+    besides a number (``choices``)."""
+
+    default: float | str
+    words: str
+    low: float | None = None
+    high: float | None = None
+    above: float | None = None
+    below: float | None = None
+    floor: str = ""
+    choices: tuple[str, ...] = ()
+
+
+def _no_checks(material: Any, section: str, eps: float) -> Iterator[str]:
     return iter(())
 
 
 @dataclass(frozen=True)
 class Law:
     """A flow law (``build(material, eps, fields)``) or a friction that wraps one
-    (``build(material, eps, fields, flow)``), with its own keys and its checks."""
+    (``build(material, eps, fields, flow)``): its own keys, the keys of other laws or of
+    every material it also reads (``reads``), the keys of other sections only it uses
+    (``settings``, "section.key"), its checks of a material (``checks(material, section,
+    eps)``, eps the regularisation of (2.13)), whether its field crosses the interface of
+    two materials (``one_field``: both must follow it), how messages name it (``words``)
+    and its 1D reference of a periodic layer (attached by ``register_reference``)."""
 
     name: str
-    keys: tuple[str, ...]
+    keys: Mapping[str, Key]
     build: Callable[..., Any]
-    checks: Callable[[Any, str], Iterator[str]] = _no_checks
+    checks: Callable[[Any, str, float], Iterator[str]] = _no_checks
+    reads: tuple[str, ...] = ()
+    settings: tuple[str, ...] = ()
+    one_field: bool = False
+    words: str = ""
+    reference: Any = field(default=None, compare=False)
+
+    @property
+    def described(self) -> str:
+        return self.words or f"the {self.name!r} law"
 
 
 RHEOLOGIES: dict[str, Law] = {}     # by material.rheology
 FRICTIONS: dict[str, Law] = {}      # by material.friction
+REGISTERED = [0]   # registrations so far: the configuration's schema follows their count
+
+
+def _register(table: dict[str, Law], law: Law) -> Law:
+    for key, spec in law.keys.items():    # a key two laws read is declared alike
+        other = next((o.keys[key] for o in all_laws() if key in o.keys), spec)
+        if other != spec:
+            raise ValueError(f"the law {law.name!r} declares {key!r} unlike another law")
+    table[law.name] = law
+    REGISTERED[0] += 1
+    return law
 
 
 def register_rheology(law: Law) -> Law:
-    RHEOLOGIES[law.name] = law
-    return law
+    return _register(RHEOLOGIES, law)
 
 
 def register_friction(law: Law) -> Law:
-    FRICTIONS[law.name] = law
-    return law
+    return _register(FRICTIONS, law)
+
+
+def register_reference(name: str, reference: Any) -> None:
+    """Attach a 1D reference of a periodic layer to the law registered as ``name``."""
+    table = RHEOLOGIES if name in RHEOLOGIES else FRICTIONS
+    table[name] = dataclasses.replace(table[name], reference=reference)
+
+
+def all_laws() -> list[Law]:
+    """Every registered law: the rheologies, then the frictions."""
+    return [*RHEOLOGIES.values(), *FRICTIONS.values()]
+
+
+def laws_of(material: Any) -> tuple[Law, Law]:
+    """A material's rheology and friction."""
+    return RHEOLOGIES[material.rheology], FRICTIONS[material.friction]
+
+
+def law_keys() -> dict[str, Key]:
+    """Every law's own keys, in the order the laws registered."""
+    return {k: spec for law in all_laws() for k, spec in law.keys.items()}
+
+
+def keys_read(material: Any) -> set[str]:
+    """The law keys a material's rheology and friction read."""
+    return {k for law in laws_of(material) for k in (*law.keys, *law.reads)}
 
 
 def material_law(material: Any, eps: float, fields: LawFields = LawFields()) -> Any:
@@ -61,10 +135,10 @@ def material_law(material: Any, eps: float, fields: LawFields = LawFields()) -> 
     return FRICTIONS[material.friction].build(material, eps, fields, flow)
 
 
-def checks(material: Any, section: str) -> Iterator[str]:
+def checks(material: Any, section: str, eps: float) -> Iterator[str]:
     """What the material's rheology and friction say is wrong with it."""
-    yield from RHEOLOGIES[material.rheology].checks(material, section)
-    yield from FRICTIONS[material.friction].checks(material, section)
+    yield from RHEOLOGIES[material.rheology].checks(material, section, eps)
+    yield from FRICTIONS[material.friction].checks(material, section, eps)
 
 
 def named(section: str, key: str, words: str, value: Any) -> str:
@@ -82,4 +156,5 @@ def packing_checks(material: Any, section: str) -> Iterator[str]:
                "the packing fraction)")
 
 
-register_friction(Law("constant", (), lambda material, eps, fields, flow: flow))
+register_friction(Law("constant", {}, lambda material, eps, fields, flow: flow,
+                      words="a constant friction"))

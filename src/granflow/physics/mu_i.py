@@ -37,7 +37,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from granflow.physics.laws import Law, named, packing_checks, register_rheology
+from granflow.physics.laws import Key, Law, named, packing_checks, register_rheology
 from granflow.physics.ops import NUMPY_OPS, Ops
 
 
@@ -114,7 +114,7 @@ class MuI:
         return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
 
 
-def _mu_i_checks(material: Any, section: str) -> Iterator[str]:
+def _mu_i_checks(material: Any, section: str, eps: float) -> Iterator[str]:
     """mu_2 above mu_s, and grains at least as dense as the bulk."""
     delta = material.friction_angle_deg
     if material.mu_2_deg <= delta:
@@ -124,9 +124,17 @@ def _mu_i_checks(material: Any, section: str) -> Iterator[str]:
     yield from packing_checks(material, section)
 
 
+KEYS = {
+    "mu_2_deg": Key(32.76, "mu(I): mu_2 = tan(angle), the friction at large I (Jop et al. "
+                           "2006, glass beads)", low=0, below=90),
+    "i0": Key(0.279, "mu(I): I0 (Jop et al. 2006)", low=1e-3, high=100,
+              floor="mu rises to mu_2 over I ~ I0: below a thousandth it is mu_2 wherever "
+                    "the material moves (glass beads: 0.279)"),
+}
+
 register_rheology(Law(
-    "mu-i", ("mu_2_deg", "i0", "grain_diameter", "grain_density"),
+    "mu-i", KEYS,
     lambda m, eps, fields: MuI(viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg,
                                mu_2_deg=m.mu_2_deg, i0=m.i0, grain_diameter=m.grain_diameter,
                                grain_density=m.grain_density, eps=eps),
-    _mu_i_checks))
+    _mu_i_checks, reads=("grain_diameter", "grain_density"), words="mu(I)"))

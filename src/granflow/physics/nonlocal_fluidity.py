@@ -48,7 +48,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from granflow.physics.laws import Law, LawFields, packing_checks, register_rheology
+from granflow.physics.laws import Key, Law, LawFields, packing_checks, register_rheology
 from granflow.physics.ops import NUMPY_OPS, Ops
 
 INERTIAL = "inertial"
@@ -162,7 +162,7 @@ class NonlocalFluidity:
         return 0.5 * math.pi * self.amplitude * self.grain_diameter / math.sqrt(excess)
 
 
-def _nonlocal_checks(material: Any, section: str) -> Iterator[str]:
+def _nonlocal_checks(material: Any, section: str, eps: float) -> Iterator[str]:
     """A positive static friction (the rest state's fluidity is sqrt(2) eps / mu_s), no
     hysteretic friction beside the fluidity, grains at least as dense as the bulk."""
     if material.friction_angle_deg <= 0:
@@ -183,5 +183,24 @@ def _build(m: Any, eps: float, fields: LawFields) -> NonlocalFluidity:
                             friction_cap_deg=m.mu_2_deg)
 
 
-NONLOCAL = register_rheology(Law("nonlocal", ("nonlocal_amplitude", "nonlocal_b",
-                                              "fluidity_time"), _build, _nonlocal_checks))
+KEYS = {
+    "nonlocal_amplitude": Key(0.48, "nonlocal: A, the cooperative length is A d; 0 = the local "
+                                    "law mu = mu_s + b I (Henann & Kamrin 2013, glass beads)",
+                              low=0, high=100),
+    "nonlocal_b": Key(0.9377, "nonlocal: b of the local law mu = mu_s + b I; glass beads: "
+                              "(mu_2 - mu_s) / I0 of Jop et al. (Henann & Kamrin 2013)",
+                      low=1e-3, high=100,
+                      floor="mu_s + b I would rise by less than 1e-3 up to I = 1: a "
+                            "rate-independent law, which the fluidity's equation cannot "
+                            "relax (glass beads: 0.9377)"),
+    "fluidity_time": Key(INERTIAL, 'nonlocal: t0 of the fluidity\'s relaxation, "inertial" = '
+                                   "the local d sqrt(rho_s / p), or a constant (s); no steady "
+                                   "state and no stopping height depends on it",
+                         low=1e-9, high=1e4, choices=(INERTIAL,)),
+}
+
+NONLOCAL = register_rheology(Law(
+    "nonlocal", KEYS, _build, _nonlocal_checks,
+    reads=("grain_diameter", "grain_density", "mu_2_deg"), one_field=True,
+    settings=("numerics.fluidity_coupling", "initial.fluidity", "boundary.bed_fluidity"),
+    words="the nonlocal law"))

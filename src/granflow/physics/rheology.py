@@ -84,5 +84,6 @@ class DruckerPrager:
         return np.asarray(m)[..., None, None] * strain_rate
 
 
-register_rheology(Law("drucker-prager", (), lambda m, eps, fields: DruckerPrager(
-    viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg, eps=eps)))
+register_rheology(Law("drucker-prager", {}, lambda m, eps, fields: DruckerPrager(
+    viscosity=m.viscosity, friction_angle_deg=m.friction_angle_deg, eps=eps),
+    words="Drucker-Prager (2.13)"))

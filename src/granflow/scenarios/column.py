@@ -35,8 +35,8 @@ from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import Share, instance, record
 from granflow.simulation.timestep import step_policy
+from granflow.state.spec import Share, instance, record
 
 MESH = instance(ngs.Mesh, "a mesh", lambda mesh: {"cells": mesh.ne, "vertices": mesh.nv})
 
@@ -132,7 +132,7 @@ def build_column(config: Config) -> ColumnCollapse:
         mobilisation.start()
     # before the runner's outputs: they read the moved layer and the advanced state
     add_callback(simulation, measures, "collapse")
-    fluidity = FluidityOutputs(current) if current.solver.fluidity is not None else None
+    fluidity = FluidityOutputs.of(current)
     for name, part in (("layer", layer), ("mobilisation", mobilisation),
                        ("fluidity", fluidity)):
         if part is not None:

@@ -15,16 +15,13 @@ from granflow.ale.free_surface import polygon_measure
 from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.fem.flow import FlowSolver
-from granflow.fem.forms import FrictionWall
-from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation_field import MobilisationField
+from granflow.fem.flow_factory import build_flow
+from granflow.fem.material_share import MaterialShare
+from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
-from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
-from granflow.physics import CoulombFriction, gravity_vector
+from granflow.geometry.mesh import BED, END, GATE, WALL
 from granflow.scenarios.column_setup import ColumnSetup
-from granflow.scenarios.fluidity import fluidity_field
-from granflow.scenarios.materials import augmentation, build_side_walls
 
 
 @dataclass
@@ -34,14 +31,22 @@ class ColumnDiscretisation:
     mesh: ngs.Mesh
     solver: FlowSolver
     mover: ColumnMover
-    fraction: ngs.GridFunction | None = None   # two materials: layer share per triangle
-    mobilisation: MobilisationField | None = None   # a hysteretic friction's state
 
     def replace(self, other: ColumnDiscretisation) -> None:
-        """Take ``other``'s mesh, solver, mover, indicator and mobilisation (after a remesh
-        or a restore)."""
+        """Take ``other``'s mesh, solver and mover (after a remesh or a restore)."""
         self.mesh, self.solver, self.mover = other.mesh, other.solver, other.mover
-        self.fraction, self.mobilisation = other.fraction, other.mobilisation
+
+    @property
+    def fraction(self) -> ngs.GridFunction | None:
+        """Two materials: the share of layer material per triangle (else None)."""
+        share = self.solver.coupling(MaterialShare)
+        return share.fraction if share is not None else None
+
+    @property
+    def mobilisation(self) -> MobilisationField | None:
+        """A hysteretic friction's state (else None)."""
+        coupling = self.solver.coupling(MobilisationCoupling)
+        return coupling.field if coupling is not None else None
 
     def set_fraction(self, layer: LayerMaterial | None) -> None:
         """The material indicator of the current mesh from the tracked layer region."""
@@ -60,49 +65,12 @@ def friction_walls(setup: ColumnSetup) -> list[str]:
 
 def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
                layer: LayerMaterial | None = None) -> ColumnDiscretisation:
-    """The flow solver (3.2) with Coulomb walls and the ALE mover (3.6)/(3.7) on ``mesh``;
-    in axisymmetry the left boundary is the axis: u_r = 0 there, no friction, no penalty.
-    A layer of its own material (``[layer]``) gets the blended law and density, with the
-    indicator filled from the tracked region ``layer``."""
-    config, scene, coords = setup.config, setup.scene, setup.coordinates
-    geo, mat, bnd, num = config.geometry, config.material, config.boundary, config.numerics
-    load = bnd.normal_load
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, num.eps_friction), load)]
-    if not coords.axisymmetric:
-        walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg,
-                                                        num.eps_friction), load))
-    if setup.erodible:   # the layer's far end: frictionless, u.N = 0 (domains.py)
-        walls.append(FrictionWall(END, CoulombFriction(0.0, num.eps_friction), load))
-    gate_speed = ngs.Parameter(0.0) if scene.gate is not None else None
-    if scene.gate is not None:     # slides up along itself: friction against its motion
-        walls.append(FrictionWall(GATE, CoulombFriction(scene.gate.friction_deg,
-                                                        num.eps_friction), load,
-                                  velocity=gate_speed * ngs.CF(scene.gate.line.direction)))
-    st = config.surface_tension
-    materials = setup.materials
-    mobilisation = MobilisationField(mesh) if materials.hysteretic else None
-    fraction = (ngs.GridFunction(ngs.L2(mesh, order=0))
-                if materials.layer is not None else None)
-    # a plain L2 function is 0 on a boundary element: the walls read the adjacent
-    # triangle's (fem/engine.py: read_on_walls), the volume the function itself
-    share = fraction
-    fluidity = fluidity_field(config, materials, mesh, coords=coords, fraction=share,
-                              rough=BED if bnd.bed_fluidity == "zero" else "")
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    side_walls, augmented = build_side_walls(config), augmentation(config)
-    rheology, density = materials.law(num.eps, *state, share=share, fluidity=(
-        fluidity.current if fluidity is not None else 0.0))
-    solver = FlowSolver(mesh, rheology=rheology, density=density,
-                        body_force=gravity_vector(mat.gravity, geo.slope_deg),
-                        walls=walls, penalty=bnd.penalty, linearization=num.linearization,
-                        linear_solver=direct_solver(num.linear_solver),
-                        initial_guess=num.initial_guess,
-                        surface_tension_on=SURFACE if st.enabled else None,
-                        side_walls=side_walls, augmentation=augmented,
-                        scheme=config.time.scheme, coordinates=coords,
-                        axis=WALL if coords.axisymmetric else "",
-                        anderson_depth=num.anderson_depth, fluidity=fluidity,
-                        fluidity_coupling=num.fluidity_coupling)
+    """The flow solver (3.2) of the set-up's frozen parts (``setup.flow``) and the ALE
+    mover (3.6)/(3.7) on ``mesh``; a layer of its own material gets its indicator filled
+    from the tracked region ``layer``."""
+    config, scene = setup.config, setup.scene
+    num, st = config.numerics, config.surface_tension
+    solver = build_flow(mesh, setup.flow)
     tension = (SurfaceTension(solver.surface_tension, st.delta, st.gamma0,
                               st.trigger_angle_deg, config.mesh.size,
                               st.release_angle_deg, st.length) if st.enabled else None)
@@ -110,14 +78,14 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
         ElasticMeshVelocity)
     source = ngs.GridFunction(solver.space.components[0])
     w_solver = velocity_cls(mesh, source, solver.mesh_velocity, num.mesh_penalty,
-                            solver=direct_solver(num.linear_solver))
+                            solver=setup.flow.solver.linear_solver)
     mover = ColumnMover(mesh, w_solver,
                         source=source, flow=solver, target=solver.mesh_velocity,
                         extrapolate=num.ale_extrapolation,
                         conserve_volume=num.volume_correction, tension=tension,
-                        measure=polygon_measure(coords.axisymmetric),
+                        measure=polygon_measure(setup.axisymmetric),
                         support=Support(scene.bed, scene.wall), gate=scene.gate,
-                        gate_speed=gate_speed)
-    out = ColumnDiscretisation(mesh, solver, mover, fraction, mobilisation)
+                        gate_speed=setup.gate_speed)
+    out = ColumnDiscretisation(mesh, solver, mover)
     out.set_fraction(layer)
     return out

@@ -40,7 +40,7 @@ from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.column_setup import ColumnSetup
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     REAL,
     Share,
     array,

@@ -34,7 +34,7 @@ from granflow.scenarios.column_remesher import ColumnRemesher
 from granflow.scenarios.column_setup import ColumnSetup
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     ANY_NUMBER,
     Share,
     dataclass_of,

@@ -21,6 +21,7 @@ from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.size_field import SizeField
 from granflow.ale.transfer import StateTransfer, transfer_tensor, transfer_vertices
 from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.coupling import Carriers
 from granflow.geometry.stretch import LayerStretch
 from granflow.scenarios.column_discretisation import (
     ColumnDiscretisation,
@@ -32,7 +33,7 @@ from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.column_sizes import refit_due, refitted, remesh_sizes
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     COUNT,
     FLAG,
     REAL,
@@ -139,7 +140,8 @@ class ColumnRemesher:
         self.unrecorded_change += change
         transfer = StateTransfer(new.solver.space, friction_walls(setup),
                                  setup.config.boundary.penalty, new.solver.coordinates)
-        new.solver.inherit(old.solver, transfer.apply, transfer_tensor, transfer_vertices)
+        new.solver.inherit(old.solver, Carriers(transfer.apply, transfer_tensor,
+                                                transfer_vertices))
         new.mover.inherit(old.mover)
         if added:                         # the free-surface fix conserves the longer layer
             new.mover.initial_area += added

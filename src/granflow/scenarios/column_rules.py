@@ -128,10 +128,9 @@ def triangles(c: Config) -> tuple[float, float]:
     equilateral triangle of side h has area 0.433 h^2; the layer has its own finer cells)."""
     g, m = c.geometry, c.mesh
     layer = 0.0
-    if erodible(c):
-        fine = g.erodible_thickness / m.layer_cells
-        layer = (g.bed_length * g.erodible_thickness / 0.433 / fine / fine  # inf, not 0/0
-                 / m.layer_aspect)
+    if erodible(c):   # length x thickness over cells of (thickness / cells)^2 x aspect:
+        # thickness divided last, so that a subnormal one gives inf, never 0 / 0
+        layer = g.bed_length * m.layer_cells**2 / 0.433 / m.layer_aspect / g.erodible_thickness
     return bulk_area(c) / 0.433 / m.size / m.size, layer
 
 

@@ -2,8 +2,9 @@
 walls, the mass and the meshed erodible layer, ``geometry/scene.py``; a bed profile's file
 is read here and nowhere else), plane or r-z coordinates (``fem/measure.py``), the run's
 materials (an erodible layer's own, or none: ``scenarios/materials.py``) and how the layer
-is meshed. Every part of a collapse (the discretisation, the remesher, the size field, the
-measures, the layer tracking, the figures) reads these from one frozen ``ColumnSetup``,
+is meshed, and the flow solver's frozen parts (``scenarios/flow_config.py``: its Coulomb walls,
+the axis, the surface). Every part of a collapse (the discretisation, the remesher, the size
+field, the measures, the layer tracking, the figures) reads these from one frozen ``ColumnSetup``,
 which is the one home of three questions: is there an erodible layer (``erodible``), is the
 bed the paper's level bed z = 0 from x = 0 (``paper_bed``), is the run axisymmetric
 (``coordinates``)."""
@@ -12,15 +13,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import ngsolve as ngs
 import numpy as np
 
 from granflow.ale.remesh import EdgeSize
 from granflow.config import Config
 from granflow.config.kinds import erodible_layer
+from granflow.fem.flow_spec import FlowSpec
+from granflow.fem.forms import FrictionWall
 from granflow.fem.measure import Coordinates, coordinates_of
+from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
 from granflow.geometry.profile import BedProfile
 from granflow.geometry.scene import Scene, build_scene
 from granflow.geometry.stretch import LayerStretch
+from granflow.physics import CoulombFriction
+from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.materials import RunMaterials, run_materials
 
 
@@ -34,6 +41,8 @@ class ColumnSetup:
     coordinates: Coordinates
     materials: RunMaterials
     erodible: bool                    # an erodible layer (geometry.erodible_thickness > 0)
+    flow: FlowSpec
+    gate_speed: ngs.Parameter | None  # a gate's, set by the mover, read by its wall
 
     @classmethod
     def of(cls, config: Config) -> ColumnSetup:
@@ -44,7 +53,15 @@ class ColumnSetup:
         geo = config.geometry
         end = layer_end(config, geo.width)
         scene = build_scene(geo, config.gate, end, interface=materials.layer is not None)
-        return cls(config, scene, coordinates_of(geo), materials, erodible_layer(config))
+        coordinates, erodible = coordinates_of(geo), erodible_layer(config)
+        gate_speed = ngs.Parameter(0.0) if scene.gate is not None else None
+        layout = Layout(coordinates, column_walls(config, scene, coordinates, erodible,
+                                                  gate_speed),
+                        axis=WALL if coordinates.axisymmetric else "",
+                        rough=BED if config.boundary.bed_fluidity == "zero" else "",
+                        surface=SURFACE)
+        return cls(config, scene, coordinates, materials, erodible,
+                   flow_spec(config, materials, layout), gate_speed)
 
     @property
     def bed(self) -> BedProfile:
@@ -106,3 +123,22 @@ def layer_end(config: Config, moving_x: float) -> float:
     never beyond geometry.bed_length (``ColumnRemesher`` lengthens it as the flow comes)."""
     geo, ahead = config.geometry, config.mesh.layer_ahead
     return geo.bed_length if ahead <= 0 else min(geo.bed_length, moving_x + ahead)
+
+
+def column_walls(config: Config, scene: Scene, coordinates: Coordinates, erodible: bool,
+                 gate_speed: ngs.Parameter | None) -> tuple[FrictionWall, ...]:
+    """The Coulomb walls: the bed, the wall at x = 0 unless it is the symmetry axis (in
+    axisymmetry u_r = 0 there, no friction, no penalty), the far end of an erodible layer
+    (frictionless, u.N = 0), and a gate sliding up along itself (friction against its
+    motion)."""
+    bnd, eps = config.boundary, config.numerics.eps_friction
+    load = bnd.normal_load
+    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, eps), load)]
+    if not coordinates.axisymmetric:
+        walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, eps), load))
+    if erodible:
+        walls.append(FrictionWall(END, CoulombFriction(0.0, eps), load))
+    if scene.gate is not None and gate_speed is not None:
+        walls.append(FrictionWall(GATE, CoulombFriction(scene.gate.friction_deg, eps), load,
+                                  velocity=gate_speed * ngs.CF(scene.gate.line.direction)))
+    return tuple(walls)

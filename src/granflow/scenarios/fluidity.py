@@ -1,7 +1,7 @@
 """The granular fluidity of a nonlocal law (``physics/nonlocal_fluidity.py``) in a problem:
-the field on the problem's mesh with its boundary conditions (``fem/fluidity.py``), and its
-outputs. The field lives in the flow solver (``FlowSolver.fluidity``), which solves it with
-the flow, carries it through a remesh and keeps it in the checkpoint's flow history.
+the coupling of the field to the flow with its boundary conditions (``fem/fluidity.py``:
+solved with the flow, carried through a remesh, kept in the checkpoint's flow history), and
+its outputs.
 
 Boundary conditions: g = 0 on a rough no-slip base (the periodic layer's bed); zero flux at
 the free surface and the walls; on a column's Coulomb bed ``boundary.bed_fluidity`` chooses
@@ -20,6 +20,7 @@ Its outputs (``simulation/outputs.py``): the diagnostics columns ``fluidity_max`
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -28,28 +29,34 @@ import numpy as np
 
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
-from granflow.fem.fluidity import FluidityField
-from granflow.fem.linalg import direct_solver
-from granflow.fem.measure import PLANE, Coordinates
+from granflow.fem.fluidity import FluidityCoupling, FluidityField, FluiditySpec
+from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.scenarios.materials import RunMaterials, nonlocal_law
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
 
 
-def fluidity_field(config: Config, materials: RunMaterials, mesh: ngs.Mesh, *,
-                   coords: Coordinates = PLANE, periodic: bool = False, rough: str = "",
-                   fraction: Any = None) -> FluidityField | None:
-    """The fluidity of the run's nonlocal ``materials`` on ``mesh`` (None without them);
-    g = 0 on the boundaries ``rough`` (a "|"-joined list of labels) when A > 0."""
-    materials = materials.nonlocal_
-    if not materials:
-        return None
-    laws = tuple(nonlocal_law(mat, config.numerics.eps) for mat in materials)
+def fluidity_specs(config: Config, materials: RunMaterials, *, rough: str = "",
+                   initial: Callable[[NonlocalFluidity, Config], Any] | None = None,
+                   ) -> tuple[FluiditySpec, ...]:
+    """The fluidity of the run's nonlocal ``materials`` (none without them); g = 0 on the
+    boundaries ``rough`` (a "|"-joined list of labels) when A > 0; ``initial(law,
+    config)``: g at t = 0 (None: 0)."""
+    materials_ = materials.nonlocal_
+    if not materials_:
+        return ()
+    laws = tuple(nonlocal_law(mat, config.numerics.eps) for mat in materials_)
     dirichlet = rough if any(law.amplitude > 0 for law in laws) else ""
-    return FluidityField(mesh, laws=laws, fraction=fraction, coords=coords,
-                         periodic=periodic, dirichlet=dirichlet,
-                         solver=direct_solver(config.numerics.linear_solver))
+    start = initial(laws[0], config) if initial is not None else None
+    return (FluiditySpec(laws, dirichlet, config.numerics.fluidity_coupling == "iterated",
+                         start),)
+
+
+def fluidity_of(solver: FlowSolver) -> FluidityField | None:
+    """The fluidity field of a solver, None without a nonlocal law."""
+    coupling = solver.coupling(FluidityCoupling)
+    return coupling.field if coupling is not None else None
 
 
 class Host(Protocol):
@@ -66,9 +73,14 @@ class FluidityOutputs(Outputs):
 
     current: Host
 
+    @classmethod
+    def of(cls, current: Host) -> FluidityOutputs | None:
+        """The outputs of the fluidity of ``current``'s solver (None without one)."""
+        return cls(current) if fluidity_of(current.solver) is not None else None
+
     @property
     def field(self) -> FluidityField:
-        field = self.current.solver.fluidity
+        field = fluidity_of(self.current.solver)
         assert field is not None
         return field
 
@@ -86,7 +98,7 @@ def fluidity_growth_rate(solver: FlowSolver, simulation: Any, mesh: ngs.Mesh,
                          after: float) -> float:
     """Run ``simulation`` and return the log-slope (1/s) of the fluidity's L2 norm over the
     accepted steps later than ``after`` (a least-squares line through log ||g||)."""
-    field = solver.fluidity
+    field = fluidity_of(solver)
     if field is None:
         raise ValueError("fluidity_growth_rate needs a nonlocal law "
                          "(material.rheology = 'nonlocal')")

@@ -73,21 +73,33 @@ class RunMaterials:
         both or neither."""
         return self.all if self.column.rheology == NONLOCAL.name else ()
 
-    def law(self, eps: float, mobilisation: Any = 0.0, per_triangle: Any = None,
-            fluidity: Any = 0.0, share: Any = None) -> tuple[Rheology, Any]:
+    def law(self, eps: float, fields: LawFields | None = None) -> tuple[Rheology, Any]:
         """The run's law and density. One material: [material]'s. A layer of its own: both
-        blended with ``share``, the piecewise constant share of layer material per triangle
-        (``physics/regions.py``), which the walls read from the adjacent triangle
+        blended with ``fields.share``, the piecewise constant share of layer material per
+        triangle (``physics/regions.py``), which the walls read from the adjacent triangle
         (``fem/engine.py: read_on_walls``: a plain L2 function is 0 on a boundary element,
         which would give the Coulomb walls' load under the layer the column's law). A
-        hysteretic friction reads the mobilisation (``mobilisation``, ``per_triangle``), a
-        nonlocal law the fluidity (``friction_law``)."""
-        column = friction_law(self.column, eps, mobilisation, per_triangle, fluidity=fluidity)
-        if self.layer is None or share is None:
+        hysteretic friction reads the mobilisation (``fields.mobilisation``,
+        ``fields.per_triangle``), a nonlocal law the fluidity (``friction_law``)."""
+        f = fields if fields is not None else LawFields()
+        column = friction_law(self.column, eps, f.mobilisation, f.per_triangle, f.fluidity)
+        if self.layer is None or f.share is None:
             return column, self.column.density
-        layer = friction_law(self.layer, eps, mobilisation, per_triangle, fluidity=fluidity)
-        return (TwoMaterials(column, layer, share, share),
-                blend(self.column.density, self.layer.density, share))
+        layer = friction_law(self.layer, eps, f.mobilisation, f.per_triangle, f.fluidity)
+        return (TwoMaterials(column, layer, f.share, f.share),
+                blend(self.column.density, self.layer.density, f.share))
+
+
+@dataclass(frozen=True)
+class MaterialLaw:
+    """The run's law and density from the fields its couplings hand them, on every mesh
+    (``fem/flow_factory.py``)."""
+
+    materials: RunMaterials
+    eps: float
+
+    def __call__(self, fields: LawFields) -> tuple[Rheology, Any]:
+        return self.materials.law(self.eps, fields)
 
 
 def run_materials(config: Config) -> RunMaterials:

@@ -32,7 +32,7 @@ from granflow.physics.hysteresis import Relaxation, pick, relaxation, relaxed
 from granflow.scenarios.materials import RunMaterials
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import TIME, Share, array, assign, may_lack
+from granflow.state.spec import TIME, Share, array, assign, may_lack
 
 
 class Host(Protocol):

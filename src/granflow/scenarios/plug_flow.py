@@ -16,29 +16,25 @@ from granflow.config import Config
 from granflow.diagnostics.plug_flow import velocity_errors_l2, vertical_profile
 from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
+from granflow.fem.flow_factory import build_flow
 from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation_field import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
-from granflow.physics import MuI, gravity_vector
+from granflow.physics import gravity_vector
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
-from granflow.reference.incline import SteadyProfile, drucker_prager_profile, mu_i_profile
-from granflow.reference.nonlocal_incline import steady_nonlocal_flow
-from granflow.reference.plug1d import Plug1DSolution, solve_plug1d
-from granflow.scenarios.fluidity import FluidityOutputs, fluidity_field
-from granflow.scenarios.materials import (
-    augmentation,
-    build_rheology,
-    friction_law,
-    nonlocal_law,
-    run_materials,
-)
+from granflow.reference.incline import SteadyProfile
+from granflow.reference.periodic_layer import Reference, layer_reference, steep
+from granflow.reference.plug1d import Plug1DSolution
+from granflow.scenarios.flow_config import Layout, flow_spec
+from granflow.scenarios.fluidity import FluidityOutputs
+from granflow.scenarios.materials import run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import Share, array, assign, record
 from granflow.simulation.timestep import step_policy
+from granflow.state.spec import Share, array, assign, record
 
 
 @dataclass
@@ -50,96 +46,47 @@ class PlugFlow:
     solver: FlowSolver
     simulation: Simulation
     _references: dict[float, Plug1DSolution | SteadyProfile] = field(default_factory=dict)
-    mobilisation: MobilisationField | None = None     # a hysteretic friction's state
-    tracking: MobilisationTracking | None = None      # ... and its callback
+    _found: Reference | str | None = None
+    tracking: MobilisationTracking | None = None      # a hysteretic friction's callback
+
+    @property
+    def mobilisation(self) -> MobilisationField | None:
+        """A hysteretic friction's state (else None)."""
+        coupling = self.solver.coupling(MobilisationCoupling)
+        return coupling.field if coupling is not None else None
 
     @property
     def steep(self) -> bool:
         """Slope steeper than the friction angle: no plug, the layer shears throughout."""
-        return self.config.geometry.slope_deg > self.config.material.friction_angle_deg
+        return steep(self.config)
+
+    def _layer_reference(self) -> Reference | str:
+        """The law's reference of this layer, or why none applies
+        (``reference/periodic_layer.py``), decided once."""
+        if self._found is None:
+            self._found = layer_reference(self.config)
+        return self._found
 
     def reference_note(self) -> str | None:
-        """Why no reference applies, or None. Below its friction angle a Drucker-Prager
-        layer has the 1D solution of (4.1); steeper, the steady profile it tends to
-        (reference/incline.py); a mu(I) layer has the steady profile when
-        mu_s < tan(slope) < mu_2 and nothing else (the 1D solver is for Drucker-Prager).
-        With a hysteretic friction the steady profile is the flowing law's (a layer that
-        keeps flowing tends to it: mobilised, mu = mu_flow), the 1D solver none."""
-        mat, slope = self.config.material, self.config.geometry.slope_deg
-        if mat.rheology == "nonlocal":
-            return self._nonlocal_note()
-        if mat.friction == "hysteretic" and not self.steep:
-            return ("no reference: the 1D solver of (4.1) has a constant friction, and "
-                    f"geometry.slope_deg = {slope:g} <= material.friction_angle_deg = "
-                    f"{mat.friction_angle_deg:g}")
-        if mat.rheology != "mu-i":
-            return None
-        if not self.steep:
-            return (f"no reference: the 1D solver of (4.1) is for Drucker-Prager, and a mu(I) "
-                    f"layer at geometry.slope_deg = {slope:g} <= material.friction_angle_deg "
-                    f"= {mat.friction_angle_deg:g} comes to rest")
-        if slope >= mat.mu_2_deg:
-            return (f"no reference: geometry.slope_deg = {slope:g} >= material.mu_2_deg = "
-                    f"{mat.mu_2_deg:g}, the mu(I) layer keeps accelerating")
-        return None
-
-    def _nonlocal_note(self) -> str | None:
-        """A nonlocal layer has its steady flow (reference/nonlocal_incline.py) when it is
-        thicker than its stopping height, and comes to rest otherwise."""
-        c = self.config
-        law = nonlocal_law(c.material, c.numerics.eps)
-        h_stop = law.stopping_height(c.geometry.slope_deg)
-        if law.amplitude > 0 and c.geometry.height <= h_stop:
-            return (f"no reference: the nonlocal layer of geometry.height = "
-                    f"{c.geometry.height:g} m is not thicker than its stopping height "
-                    f"{h_stop:.4g} m at geometry.slope_deg = {c.geometry.slope_deg:g}: it "
-                    "comes to rest")
-        if not self.steep:
-            return (f"no reference: geometry.slope_deg = {c.geometry.slope_deg:g} <= "
-                    f"material.friction_angle_deg = {c.material.friction_angle_deg:g}: the "
-                    "nonlocal layer comes to rest")
-        return None
+        """Why no reference applies (one line), or None."""
+        found = self._layer_reference()
+        return found if isinstance(found, str) else None
 
     @property
     def reference_kind(self) -> str | None:
         """"1d" (the transient solution of (4.1)), "steady" (the steep layer's limit)."""
-        if self.reference_note() is not None:
-            return None
-        return "steady" if self.steep else "1d"
+        found = self._layer_reference()
+        return None if isinstance(found, str) else found.kind
 
     def reference(self, t: float) -> Plug1DSolution | SteadyProfile | None:
         """The independent reference at time t (cached); None if none applies."""
-        kind = self.reference_kind
-        if kind is None:
+        found = self._layer_reference()
+        if isinstance(found, str):
             return None
-        key = -1.0 if kind == "steady" else round(t, 12)
+        key = -1.0 if found.kind == "steady" else round(t, 12)
         if key not in self._references:
-            self._references[key] = (self._steady() if kind == "steady"
-                                     else self._plug1d(t))
+            self._references[key] = found.at(t)
         return self._references[key]
-
-    def _plug1d(self, t: float) -> Plug1DSolution:
-        c = self.config
-        return solve_plug1d(
-            height=c.geometry.height, slope_deg=c.geometry.slope_deg,
-            friction_angle_deg=c.material.friction_angle_deg,
-            kinematic_viscosity=c.material.viscosity / c.material.density,
-            shear_rate=c.initial.shear_rate, plug_base=c.initial.plug_base, t_end=t,
-            gravity=c.material.gravity)
-
-    def _steady(self) -> SteadyProfile:
-        c, mat = self.config, self.config.material
-        common = {"height": c.geometry.height, "slope_deg": c.geometry.slope_deg,
-                  "density": mat.density, "gravity": mat.gravity}
-        if mat.rheology == "nonlocal":
-            return steady_nonlocal_flow(law=nonlocal_law(mat, c.numerics.eps),
-                                        **common).profile
-        if mat.rheology == "mu-i":
-            law = build_rheology(c)
-            assert isinstance(law, MuI)
-            return mu_i_profile(law=law, **common)
-        return drucker_prager_profile(friction_angle_deg=mat.friction_angle_deg,
-                                      viscosity=mat.viscosity, **common)
 
     def velocity_errors(self, t: float) -> tuple[float, float | None] | None:
         """(absolute, relative) L2 errors against the reference at t, None without one."""
@@ -236,26 +183,9 @@ def build_plug_flow(config: Config) -> PlugFlow:
     geo, mat = config.geometry, config.material
     mesh = periodic_layer_mesh(geo.length, geo.height, config.mesh.size, config.mesh.cells_x)
     force = gravity_vector(mat.gravity, geo.slope_deg)
-    mobilisation = MobilisationField(mesh) if mat.friction == "hysteretic" else None
-    state = (mobilisation.cf, mobilisation.state) if mobilisation is not None else (0.0, None)
-    fluidity = fluidity_field(config, run_materials(config), mesh, periodic=True,
-                              rough=BED)  # the bed is rough
-    law = friction_law(mat, config.numerics.eps, *state,
-                       fluidity=fluidity.current if fluidity is not None else 0.0)
-    solver = FlowSolver(mesh, rheology=law,
-                        density=mat.density,
-                        body_force=force, periodic=True, dirichlet=BED,
-                        linearization=config.numerics.linearization,
-                        linear_solver=direct_solver(config.numerics.linear_solver),
-                        initial_guess=config.numerics.initial_guess,
-                        augmentation=augmentation(config),
-                        scheme=config.time.scheme,
-                        anderson_depth=config.numerics.anderson_depth,
-                        fluidity=fluidity,
-                        fluidity_coupling=config.numerics.fluidity_coupling)
-    if fluidity is not None:
-        assert isinstance(law, NonlocalFluidity)
-        fluidity.set(initial_fluidity(law, config))
+    layout = Layout(periodic=True, dirichlet=BED, rough=BED,   # the bed is rough
+                    initial_fluidity=initial_fluidity)
+    solver = build_flow(mesh, flow_spec(config, run_materials(config), layout))
     z = ngs.y
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0)),
@@ -273,12 +203,12 @@ def build_plug_flow(config: Config) -> PlugFlow:
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations, mesh_motion=motion,
                             velocity_floor=config.numerics.velocity_floor)
-    problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation,
-                       mobilisation=mobilisation)
+    problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)
     add_callback(simulation, PlugFlowOutputs(problem), "plug_flow")
+    fluidity = FluidityOutputs.of(problem)
     if fluidity is not None:
-        add_callback(simulation, FluidityOutputs(problem), "fluidity")
-    if mobilisation is not None:
+        add_callback(simulation, fluidity, "fluidity")
+    if problem.mobilisation is not None:
         problem.tracking = MobilisationTracking(run_materials(config), problem,
                                                 simulation)
         problem.tracking.start()

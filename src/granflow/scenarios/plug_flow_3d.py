@@ -7,17 +7,19 @@ Taylor-Hood system is then gathered and factorised on rank 0."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import ngsolve as ngs
 
 from granflow.config import Config
-from granflow.fem.flow import FlowSolver
-from granflow.fem.linalg import MASTER_INVERSE, direct_solver, distributed
+from granflow.fem.flow_factory import build_flow
+from granflow.fem.linalg import MASTER_INVERSE, distributed
 from granflow.fem.measure import SPACE
 from granflow.fem.mpi import distribute
 from granflow.geometry.labels import BED
 from granflow.geometry.mesh3d import periodic_box_mesh
-from granflow.physics import gravity_vector_3d
-from granflow.scenarios.materials import build_rheology
+from granflow.scenarios.flow_config import Layout, flow_spec
+from granflow.scenarios.materials import run_materials
 from granflow.scenarios.plug_flow import PlugFlow
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.timestep import step_policy
@@ -37,16 +39,12 @@ def build_plug_flow_3d(config: Config, width: float | None = None) -> PlugFlow:
                          "numerics.method = 'regularized', numerics.mesh_velocity = 'fixed'")
     mesh = distribute(lambda: periodic_box_mesh(geo.length, width or geo.length, geo.height,
                                                 config.mesh.size))
-    solver_type = (MASTER_INVERSE if distributed(mesh)
-                   else direct_solver(config.numerics.linear_solver))
-    force = gravity_vector_3d(mat.gravity, geo.slope_deg)
-    solver = FlowSolver(mesh, rheology=build_rheology(config), density=mat.density,
-                        body_force=force, periodic=True, dirichlet=BED,
-                        linearization=config.numerics.linearization,
-                        linear_solver=solver_type,
-                        initial_guess=config.numerics.initial_guess,
-                        scheme=config.time.scheme, coordinates=SPACE,
-                        anderson_depth=config.numerics.anderson_depth)
+    spec = flow_spec(config, run_materials(config),
+                     Layout(SPACE, periodic=True, dirichlet=BED, rough=BED))
+    if distributed(mesh):        # the system gathered and factorised on rank 0
+        spec = replace(spec, solver=replace(spec.solver, linear_solver=MASTER_INVERSE))
+    solver = build_flow(mesh, spec)
+    force = spec.terms.body_force
     z = SPACE.bed_normal
     alpha, base = config.initial.shear_rate, config.initial.plug_base
     solver.set_state(ngs.CF((ngs.IfPos(z - base, alpha * (z - base), 0.0), 0.0, 0.0)),

@@ -27,7 +27,7 @@ from granflow.io.run_dir import RunDir, RunDirError
 from granflow.scenarios import BUILT_IN
 from granflow.simulation.outputs import Figure
 from granflow.simulation.simulation import Simulation
-from granflow.simulation.state_spec import Share
+from granflow.state.spec import Share
 
 if TYPE_CHECKING:
     import ngsolve as ngs

@@ -20,7 +20,7 @@ import numpy as np
 
 from granflow.simulation.callbacks import Callback, Simulation
 from granflow.simulation.outcomes import RunResult
-from granflow.simulation.state_spec import Share
+from granflow.state.spec import Share
 
 Table = tuple[list[str], np.ndarray]       # a profile: column names, rows
 Figure = Callable[[Any, Any], None]        # (run_dir, config): drawn from the run's files

@@ -16,7 +16,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
 
-from granflow.simulation.state_spec import FLAG, TIME, Share, or_none
+from granflow.state.spec import FLAG, TIME, Share, or_none
+
+FLOWING_SPEED = 1e-3  # m/s: a cell flows when |u| exceeds it (paper section 5.1.2)
 
 
 class Clock(Protocol):

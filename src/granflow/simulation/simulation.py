@@ -36,7 +36,14 @@ from typing import Any, ClassVar, Protocol
 from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure, RunResult
 from granflow.simulation.outputs import Callbacks
 from granflow.simulation.rest import RestCriterion
-from granflow.simulation.state_spec import (
+from granflow.simulation.timestep import (
+    AdaptiveStep,
+    LocalError,
+    RampedStep,
+    StepPolicy,
+    StepTooSmall,
+)
+from granflow.state.spec import (
     COUNT,
     TIME,
     Share,
@@ -47,13 +54,6 @@ from granflow.simulation.state_spec import (
     or_none,
     record,
     tuple_of,
-)
-from granflow.simulation.timestep import (
-    AdaptiveStep,
-    LocalError,
-    RampedStep,
-    StepPolicy,
-    StepTooSmall,
 )
 
 

@@ -11,10 +11,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
+
+from granflow.state.spec import POSITIVE, TIME, list_of, number, or_none, whole
 
 if TYPE_CHECKING:
     from granflow.config import Config
+
+
+# what a policy's numbers may be in a checkpoint (``state/spec.py: dataclass_of``): a
+# NaN or negative step, tolerance or stop is refused before the run goes on
+Positive = Annotated[float, POSITIVE]
+Stops = Annotated[list[float], list_of(TIME)]
 
 
 @dataclass(frozen=True)
@@ -56,17 +64,17 @@ class RampedStep:
     accepted step: a fixed step that was halved once returns to its size.
     """
 
-    t_end: float
-    dt_init: float
-    dt_max: float
-    growth: float
-    tol: float
-    tol_init: float
-    stops: list[float] = field(default_factory=list)
+    t_end: Positive
+    dt_init: Positive
+    dt_max: Positive
+    growth: Annotated[float, number(1.0)]
+    tol: Positive
+    tol_init: Positive
+    stops: Stops = field(default_factory=list)
     step_key: str = "time.dt_max"     # the key a user changes to shorten the steps
-    dt: float = field(init=False)
-    recovering: float | None = field(init=False, default=None)
-    current_tol: float = field(init=False)
+    dt: Positive = field(init=False)
+    recovering: Annotated[float | None, or_none(POSITIVE)] = field(init=False, default=None)
+    current_tol: Positive = field(init=False)
 
     def __post_init__(self) -> None:
         self.dt = min(self.dt_init, self.dt_max)
@@ -125,20 +133,20 @@ class AdaptiveStep:
     (m), between dt_max and dt_max_slow. A fast flow keeps dt_max.
     """
 
-    t_end: float
-    dt_init: float
-    dt_max: float
-    tol: float
-    error_tol: float
-    error_floor: float
-    stops: list[float] = field(default_factory=list)
-    dt_min: float = DT_FLOOR
+    t_end: Positive
+    dt_init: Positive
+    dt_max: Positive
+    tol: Positive
+    error_tol: Positive
+    error_floor: Positive
+    stops: Stops = field(default_factory=list)
+    dt_min: Positive = DT_FLOOR
     step_key: str = "time.error_tol or time.dt_max"
-    order: int = 1                    # of the time scheme
-    dt_max_slow: float = 0.0          # s: the cap of a slow flow (at most dt_max: off)
-    slow_travel: float = 0.0          # m: a step that carries the flow this far is slow
-    dt: float = field(init=False)
-    cap: float = field(init=False, default=0.0)   # the largest step now (0: dt_max)
+    order: Annotated[int, whole(1)] = 1      # of the time scheme
+    dt_max_slow: Annotated[float, TIME] = 0.0   # s: the cap of a slow flow (at most dt_max: off)
+    slow_travel: Annotated[float, TIME] = 0.0   # m: a step that carries the flow this far is slow
+    dt: Positive = field(init=False)
+    cap: Annotated[float, TIME] = field(init=False, default=0.0)  # the largest step now (0: dt_max)
 
     def __post_init__(self) -> None:
         self.dt = min(self.dt_init, self.dt_max)

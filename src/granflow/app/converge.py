@@ -4,7 +4,7 @@ Level k = 0..N-1 refines the base configuration (the scenario with the user's ``
 by 2^k in time, in space or in both, or tightens a numerical parameter: the nonlinear
 iteration's tolerance (``tolerance``: ``numerics.tol`` divided by sqrt(10) per level) or the
 rest rule's thresholds (``rest``) (:func:`level_overrides`). Every level is an explicit
-set of overrides, run as one sweep run (:func:`granflow.sweep.run_all`) into its own run
+set of overrides, run as one sweep run (:func:`granflow.app.sweep.run_all`) into its own run
 directory ``level-K`` of the output folder, so a rerun skips the finished levels and
 resumes interrupted ones as ``granflow sweep`` does.
 
@@ -27,9 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
-from granflow.config.kinds import erodible_layer, rules_of
-from granflow.convergence_report import (
+from granflow.app.convergence_report import (
     DEFAULT_TOLERANCES,
     OPTIONAL_TOLERANCES,
     TOLERANCE_MEANING,
@@ -40,8 +38,10 @@ from granflow.convergence_report import (
     orders,
     write_report,
 )
+from granflow.app.sweep import SweepRun, run_all
+from granflow.config import Config, ConfigError, builtin_scenarios, config_to_toml, load_config
+from granflow.config.kinds import erodible_layer, rules_of
 from granflow.io.run_dir import prepare_folder
-from granflow.sweep import SweepRun, run_all
 
 __all__ = ["DEFAULT_TOLERANCES", "MAX_LEVELS", "MIN_LEVELS", "MODES", "OPTIONAL_TOLERANCES",
            "PARAMETER_MODES",

@@ -1,4 +1,4 @@
-"""Distances between two runs' free surfaces (polylines), for convergence and A/B checks."""
+"""Distances between two polylines (two runs' free surfaces), for convergence and A/B checks."""
 
 from __future__ import annotations
 

@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from granflow.config import ConfigError, load_config, read_toml_file
+from granflow.config.messages import notes_as_lines
 from granflow.io.run_dir import RunDir, RunDirError, atomic_write_text, prepare_folder
 
 FINISHED = ("completed", "stopped")
@@ -78,15 +79,20 @@ class SweepRun:
     varied: dict[str, Any]
 
 
+def studies_folder() -> Any:
+    """The built-in sweep files' folder (``granflow/app/studies/``)."""
+    return resources.files("granflow.app").joinpath("studies")
+
+
 def builtin_studies() -> list[str]:
-    folder = resources.files("granflow.studies")
+    folder = studies_folder()
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
 def load_sweep(source: str) -> Sweep:
-    """A sweep from a TOML file or a built-in study name (``granflow/studies/NAME.toml``)."""
+    """A sweep from a TOML file or a built-in study name (``granflow/app/studies/NAME.toml``)."""
     if source in builtin_studies():
-        text = resources.files("granflow.studies").joinpath(f"{source}.toml").read_text()
+        text = studies_folder().joinpath(f"{source}.toml").read_text()
         data, name = tomllib.loads(text), source
     else:
         path = Path(source)
@@ -147,14 +153,19 @@ def run_one(run: SweepRun, root: str) -> dict[str, Any]:
     Executes in a Dask worker process. Never raises: an invalid combination or a failure
     is a row with status "failed" and the message.
     """
+    with notes_as_lines():     # the worker's notes as the command line prints them
+        return _run_one(run, root)
+
+
+def _run_one(run: SweepRun, root: str) -> dict[str, Any]:
     folder = Path(root) / run.name
     row: dict[str, Any] = {"run": run.name, **run.varied}
     try:
         config = load_config(run.base, run.overrides)
     except ConfigError as err:
         return row | {"status": "failed", "message": f"invalid configuration: {err}"}
-    from granflow.api import resume
-    from granflow.api import run as run_case
+    from granflow.app.api import resume
+    from granflow.app.api import run as run_case
     from granflow.io.checkpoint import CheckpointError
 
     try:

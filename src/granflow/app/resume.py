@@ -22,9 +22,10 @@ from typing import Any
 from granflow.config import Config, ConfigError, config_to_toml, load_config
 from granflow.config.messages import fmt_value
 from granflow.io.checkpoint import CHECKPOINT_FILE, CheckpointError, read_checkpoint
-from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.profiles import label_of
+from granflow.io.run_dir import RUN_FILES, RunDir, RunDirError
 from granflow.io.run_state import SimulationState
-from granflow.simulation.state_spec import StateError
+from granflow.state.spec import StateError
 
 FINISHED = ("completed", "stopped")
 # keys whose change the step policy must follow (it is then rebuilt from the configuration)
@@ -43,7 +44,7 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                log: Callable[[str], None] | None,
                check_solver: Callable[[Config], None]) -> Path:
     """Continue the run in ``path`` (module docstring); returns its folder."""
-    from granflow.runner import build_problem, checked_state, run_simulation
+    from granflow.app.run import build_problem, checked_state, run_simulation
 
     root = Path(path)
     if not RunDir.is_run_dir(root):
@@ -78,8 +79,9 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
                 raise CheckpointError(f"the checkpoint of '{root}' does not fit its "
                                       f"configuration: {type(exc).__name__}: "
                                       f"{str(exc)[:300]}") from None
+        if not run_dir.has_manifest():          # a run of an earlier granflow: its files
+            run_dir.adopt_layout(earlier_files(saved, state, problem))
         run_dir.remove_temporary_files()        # left by a killed run
-        run_dir.adopt_layout()                  # a run of an earlier granflow: its files
         if changed:
             run_dir.write_text("config.toml", config_to_toml(config))
         if log is not None:
@@ -89,6 +91,22 @@ def resume_run(path: str | Path, overrides: Sequence[str], *, progress: bool,
         run_simulation(config, run_dir, resume=state, problem=problem,
                        progress=progress and config.output.progress)
     return root
+
+
+def earlier_files(config: Config, state: SimulationState, problem: Any) -> list[str]:
+    """The files the run being resumed wrote, as far as its own records name them: the
+    run's files, its checkpoint, the snapshots its state lists, its index, the frames it
+    counts, the profiles of its output times so far (of the kinds its problem declares)
+    and their units (``RunDir.adopt_layout``)."""
+    names = [*RUN_FILES, CHECKPOINT_FILE, "fields/fields.pvd", "profiles/units.json"]
+    names += [f"fields/{name}" for _, name in state.outputs.get("vtk_entries", [])]
+    names += [f"frames/frame_{i:05d}.npz" for i in range(state.outputs.get("frames_written",
+                                                                            0))]
+    if problem is not None:
+        times = [t for t in config.time.output_times if t <= state.t + 1e-9 * max(1.0, t)]
+        kinds = problem.simulation.callbacks.profiles(state.t) if times else {}
+        names += [f"profiles/{kind}_{label_of(t)}.csv" for kind in kinds for t in times]
+    return names
 
 
 def changed_keys(before: Config, after: Config) -> list[str]:

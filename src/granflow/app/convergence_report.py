@@ -19,12 +19,12 @@ from typing import Any
 
 import numpy as np
 
-from granflow.diagnostics.compare import surface_distance
+from granflow.app.sweep import FINISHED, SweepRun
 from granflow.diagnostics.front import flow_duration
+from granflow.geometry.polylines import surface_distance
 from granflow.io import profiles
 from granflow.io.diagnostics import read_diagnostics
 from granflow.io.run_dir import RunDir
-from granflow.sweep import FINISHED, SweepRun
 
 DEFAULT_TOLERANCES = {"surface_mean": 1e-3, "surface_max": 3e-3, "stop_time_rel": 0.02,
                       "runout": 5e-3,             # the accuracy targets of the collapses,

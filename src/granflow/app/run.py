@@ -26,6 +26,7 @@ from typing import Any
 import ngsolve as ngs
 
 from granflow.config import Config
+from granflow.diagnostics.flow_fields import FlowSnapshot
 from granflow.diagnostics.state import state_measures
 from granflow.fem.linalg import solver_in_use
 from granflow.fem.sampling import cell_means
@@ -37,7 +38,7 @@ from granflow.io.fields import FieldSnapshots
 from granflow.io.frames import INTERVAL_S as ANIMATION_INTERVAL_S
 from granflow.io.frames import AnimationFrames
 from granflow.io.report import display_path
-from granflow.io.run_dir import RunDir, RunDirError
+from granflow.io.run_dir import SUMMARY_LIST_LIMIT, RunDir, RunDirError
 from granflow.io.run_state import SimulationState
 from granflow.scenarios.registry import Problem, build_problem, draw_figures
 from granflow.simulation.callbacks import (
@@ -49,7 +50,7 @@ from granflow.simulation.callbacks import (
 )
 from granflow.simulation.outputs import Outputs
 from granflow.simulation.simulation import RunResult, Simulation
-from granflow.simulation.state_spec import (
+from granflow.state.spec import (
     TIME,
     Dims,
     Share,
@@ -67,7 +68,7 @@ EVENTS = ("remesh", "deposition")     # marked in the figures (summary.json NAME
 # the outputs' share of a checkpoint (``_Run.checkpoint``): the runner's and its files'
 OUTPUTS_SHARE: Share = {
     "volume0": may_lack(or_none(number(0.0, above=True))),
-    **{f"{name}_times": may_lack(list_of(TIME)) for name in EVENTS},
+    **{f"{name}_times": may_lack(list_of(TIME, most=SUMMARY_LIST_LIMIT)) for name in EVENTS},
     "pending_times": may_lack(list_of(TIME)), "animation_next": may_lack(or_none(TIME)),
     **DiagnosticsLog.share, **FieldSnapshots.share, **AnimationFrames.share}
 
@@ -81,7 +82,7 @@ def write_profiles(run_dir: RunDir, problem: Problem, t: float, final: bool = Fa
 
 def checked_state(state: SimulationState, problem: Problem | None) -> SimulationState:
     """``state`` with every member of its three shares checked against what its parts
-    declare (``simulation/state_spec.py``) and only those kept: the one check of a
+    declare (``state/spec.py``) and only those kept: the one check of a
     checkpoint's content before any part reads it; ``StateError`` (one line) names the
     first member that is not what its part declared. Without a problem (its build failed:
     the run fails, nothing reads the problem's share) that share is left as it is."""
@@ -148,7 +149,8 @@ class RunRecord(Outputs):
     the remeshes and the depositions, which the figures mark: each changes the kinetic
     energy at once), the output times after the stop, the last state's profiles, the
     volume's conservation and the mesh's size. Its state is in the outputs' share of the
-    checkpoint (``OUTPUTS_SHARE``)."""
+    checkpoint (``OUTPUTS_SHARE``). It notes the first ``SUMMARY_LIST_LIMIT`` events of
+    each kind (what summary.json's reader reads; the remeshes' count is the remesher's)."""
 
     def __init__(self, problem: Problem, saved: dict[str, Any] | None, resumed: bool,
                  at_times: AtTimes) -> None:
@@ -163,8 +165,8 @@ class RunRecord(Outputs):
 
     def __call__(self, sim: Simulation) -> None:
         counts = _event_counts(self.problem)
-        for name, count in counts.items():
-            if count > self.seen[name]:
+        for name, count in counts.items():   # the first SUMMARY_LIST_LIMIT of each kind
+            if count > self.seen[name] and len(self.events[name]) < SUMMARY_LIST_LIMIT:
                 # a remesh comes before the step's move, a landing on the bed ends it
                 self.events[name].append(sim.t - sim.dt if name == "remesh" else sim.t)
         self.seen = counts
@@ -218,7 +220,8 @@ class _Run:
         saved = resume.outputs if resume is not None else None
         callbacks = sim.callbacks
         self.diagnostics = DiagnosticsLog(run_dir, saved, columns=callbacks.columns())
-        self.fields = FieldSnapshots(run_dir, problem, saved, cell_data=callbacks.fields)
+        self.fields = FieldSnapshots(run_dir, FlowSnapshot(problem), saved,
+                                     cell_data=callbacks.fields)
         self.bar = ProgressBar(config.time.t_end, enabled=progress, initial=sim.t)
         self.at_times = AtTimes(config.time.output_times, self._outputs_at)
         if resume is not None:   # those still ahead (the configuration may have changed them)
@@ -349,8 +352,9 @@ def fresh_factorisations(problem: Problem) -> None:
     """After a checkpoint the sparse LUs start afresh, as they do in a run resumed from it:
     PARDISO's analysis (pivot order, scaling) reads the matrix's values, so reusing one made
     on an earlier step's matrix gives round-off differences that the nonlinear iteration
-    counts then amplify (a resumed run would not repeat the run that wrote the checkpoint)."""
-    problem.solver.nonlinear.reset_factorisations()
+    counts then amplify (a resumed run would not repeat the run that wrote the checkpoint).
+    The flow's couplings solve systems of their own (a nonlocal law's fluidity): theirs too."""
+    problem.solver.reset_factorisations()
     velocity = getattr(problem.simulation.mesh_motion, "velocity_solver", None)
     if velocity is not None:
         velocity.forget_factorisation()

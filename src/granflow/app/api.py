@@ -271,7 +271,7 @@ def run_case(case: str | Path | Config,
     config, label = _resolve(case, overrides)
     check_solver(config)
     note_cost(config)
-    from granflow.runner import run_simulation
+    from granflow.app.run import run_simulation
 
     progress = watched() if progress is None else progress
     log = print if log is None and progress else log
@@ -321,7 +321,7 @@ def resume(path: str | Path, overrides: Mapping[str, Any] | Sequence[str] | None
     end, or extend a finished one: ``overrides={"time.t_end": 2.0}``.
 
     ``overrides`` may change only the end time, later output times, ``output.*``, the stop
-    at rest and the step and solver controls (``granflow.resuming``); others are refused.
+    at rest and the step and solver controls (``granflow.app.resume``); others are refused.
     ``allow_pickle`` is no longer supported (granflow 0.1's pickled checkpoints are not
     read): True raises ``CheckpointError``.
     """
@@ -340,7 +340,7 @@ def resume_case(path: str | Path,
                 overrides: Mapping[str, Any] | Sequence[str] | None = None, *,
                 progress: bool = False, log: Callable[[str], None] | None = None) -> Run:
     """``resume`` as the command line calls it: its messages name the command's options."""
-    from granflow.resuming import resume_run
+    from granflow.app.resume import resume_run
 
     return Run(resume_run(path, _override_texts(overrides), progress=progress, log=log,
                           check_solver=check_solver))

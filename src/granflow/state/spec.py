@@ -72,6 +72,7 @@ def whole(low: int = 0) -> Check:
 
 
 TIME = number(0.0)
+POSITIVE = number(0.0, above=True)
 REAL = number()
 ANY_NUMBER = Check("a number (NaN or infinite too)", lambda x, w, d: _real(x))  # a measure
 COUNT = whole()
@@ -94,14 +95,15 @@ def or_none(check: Check) -> Check:
                  inner=lambda x, w, d: None if x is None else check(x, w, d))
 
 
-def list_of(check: Check, length: str | None = None) -> Check:
+def list_of(check: Check, length: str | None = None, most: int | None = None) -> Check:
     """A list (or tuple) of members, each ``check``; ``length`` names its length's
-    dimension."""
+    dimension, ``most`` bounds it."""
     def members(x: Any, where: str, dims: Dims) -> list[Any]:
         _size(dims, length, len(x), where)
         return [check(v, f"{where}[{i}]", dims) for i, v in enumerate(x)]
-    return Check(f"a list of {check.what}s", lambda x, w, d: isinstance(x, list | tuple),
-                 inner=members)
+    bound = "" if most is None else f" (at most {most})"
+    return Check(f"a list of {check.what}s{bound}", lambda x, w, d: isinstance(
+        x, list | tuple) and (most is None or len(x) <= most), inner=members)
 
 
 def tuple_of(*checks: Check) -> Check:
@@ -158,11 +160,12 @@ def instance(cls: type, what: str, sizes: Callable[[Any], Dims] | None = None) -
 
 
 def dataclass_of(*classes: type) -> Check:
-    """An instance of one of these dataclasses, each field checked by its annotation."""
+    """An instance of one of these dataclasses, each field checked by its annotation (its
+    ``Annotated`` check, else its type's: a float is then any number)."""
     names = " or ".join(c.__name__ for c in classes)
 
     def fields(x: Any, where: str, dims: Dims) -> Any:
-        hints = typing.get_type_hints(type(x))
+        hints = typing.get_type_hints(type(x), include_extras=True)
         for f in dataclasses.fields(x):
             setattr(x, f.name, _annotated(hints[f.name])(getattr(x, f.name),
                                                           f"{where}.{f.name}", dims))
@@ -196,8 +199,11 @@ def assign(target: np.ndarray, values: Any, where: str) -> None:
 
 
 def _annotated(tp: Any) -> Check:
-    """The check of a dataclass field's annotation."""
+    """The check of a dataclass field's annotation (``Annotated[float, check]`` says its
+    own)."""
     origin, args = typing.get_origin(tp), typing.get_args(tp)
+    if origin is typing.Annotated:
+        return next((a for a in args[1:] if isinstance(a, Check)), None) or _annotated(args[0])
     if origin in (Union, types.UnionType) and type(None) in args:
         rest = [a for a in args if a is not type(None)]
         return or_none(_annotated(rest[0]))

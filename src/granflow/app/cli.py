@@ -21,22 +21,13 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from granflow import __version__
-from granflow.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
-from granflow.config import (
-    ConfigError,
-    ConfigNote,
-    builtin_scenarios,
-    config_to_toml,
-    load_config,
-)
-from granflow.config.schema import FIGURE_FORMATS
-from granflow.converge import (
+from granflow.app.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
+from granflow.app.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
     MIN_LEVELS,
@@ -46,9 +37,17 @@ from granflow.converge import (
     ConvergeError,
     parse_tolerances,
 )
+from granflow.app.sweep import SweepError
+from granflow.config import (
+    ConfigError,
+    builtin_scenarios,
+    config_to_toml,
+    load_config,
+)
+from granflow.config.messages import notes_as_lines
+from granflow.config.schema import FIGURE_FORMATS
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
-from granflow.sweep import SweepError
 
 DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without an argument
 
@@ -57,9 +56,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``granflow`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("default", ConfigNote)   # each note once
-            warnings.showwarning = _note
+        with notes_as_lines():            # each note once, one line
             return args.command(args)
     except (ConfigError, RunDirError, CheckpointError, SweepError, ConvergeError) as err:
         print(f"granflow: error: {err}", file=sys.stderr)
@@ -71,15 +68,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("granflow: interrupted", file=sys.stderr)
         return 130
-
-
-def _note(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-          file: object = None, line: str | None = None) -> None:
-    """A configuration note (``ConfigNote``) as one line; other warnings as Python shows them."""
-    if issubclass(category, ConfigNote):
-        print(f"granflow: note: {message}", file=sys.stderr)
-    else:
-        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
 class _Parser(argparse.ArgumentParser):
@@ -248,7 +236,7 @@ def _scenarios(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from granflow.api import run_case
+    from granflow.app.api import run_case
 
     result = run_case(args.scenario, args.overrides, args.out, force=args.force,
                       progress=not args.quiet, log=None if args.quiet else print)
@@ -256,7 +244,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _resume(args: argparse.Namespace) -> int:
-    from granflow.api import resume_case
+    from granflow.app.api import resume_case
 
     if args.allow_pickle:
         raise CheckpointError("--allow-pickle is no longer supported: granflow does not read "
@@ -288,8 +276,8 @@ def _positive_int(text: str) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
+    from granflow.app.sweep import Cluster, check_scheduler, load_sweep, run_sweep
     from granflow.io.folders import prepare_folder
-    from granflow.sweep import Cluster, check_scheduler, load_sweep, run_sweep
 
     sweep = load_sweep(args.sweep)        # validated before any worker starts
     out = args.out if args.out is not None else RUNS_FOLDER / f"sweep-{sweep.name}"
@@ -329,9 +317,9 @@ def _tolerances(text: str) -> dict[str, float]:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from granflow.converge import Study, format_table, run_study
+    from granflow.app.converge import Study, format_table, run_study
+    from granflow.app.sweep import Cluster, check_scheduler
     from granflow.io.folders import check_folder, prepare_folder
-    from granflow.sweep import Cluster, check_scheduler
 
     study = Study(args.scenario, args.mode, args.levels, tuple(args.overrides), args.tolerances)
     out = args.out if args.out is not None else RUNS_FOLDER / f"converge-{study.label}-{args.mode}"
@@ -370,6 +358,11 @@ def _report(summary: dict[str, Any], run_dir: RunDir, printed: bool = False) -> 
     it did not finish, and the exit code."""
     from granflow.io.report import final_lines
 
+    if not summary:       # what a run writes last could not be read back
+        print(f"granflow: error: '{run_dir.root / 'summary.json'}' is missing or cannot be "
+              "read (not JSON, or larger than 16 MB); the run's other files are beside it",
+              file=sys.stderr)
+        return 1
     status = summary.get("status", "failed")
     if not printed:
         print("\n".join(final_lines(summary, run_dir.root)))
@@ -379,14 +372,14 @@ def _report(summary: dict[str, Any], run_dir: RunDir, printed: bool = False) -> 
 
 
 def _verify(args: argparse.Namespace) -> int:
+    from granflow.app.verify import BOUND, VOLUME_BOUND, verify_plug_flow
     from granflow.io.folders import check_folder
-    from granflow.verify import BOUND, VOLUME_BOUND, verify_plug_flow
 
     if args.out is not None:
         check_folder(args.out, "the verification")
     out = args.out or fresh_folder(f"verify-{args.case}-table{args.table}")
     if args.workers > 1 or args.scheduler:
-        from granflow.sweep import Cluster
+        from granflow.app.sweep import Cluster
 
         with Cluster(args.scheduler, args.workers) as cluster:
             outcome = verify_plug_flow(table=args.table, cells=args.cells, out=out,

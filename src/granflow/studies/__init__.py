@@ -1,1 +1,0 @@
-"""Built-in sweep files (``granflow sweep NAME``)."""
