@@ -31,6 +31,9 @@ TINY = {
         "geometry.bed_length=0.35", "geometry.height=0.27", "time.t_end=1e-3",
         "time.output_times=[]", "surface_tension.trigger_angle_deg=60",
         "surface_tension.release_angle_deg=30"]),
+    "slab": ("slab", [
+        "time.t_end=0.01", "geometry.erodible_thickness=0.005", "mesh.size=0.0025",
+        "time.output_times=[]", "initial.slab_speed=0.5"]),
     "plug": ("plug-flow", [
         "mesh.size=0.5", "time.dt=0.02", "time.t_end=0.06", "time.output_times=[]",
         "numerics.eps=1e-2", "numerics.mesh_velocity=vertical"]),
@@ -129,7 +132,7 @@ def no_figures(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(runner, "draw_figures", lambda run_dir, config: None)
 
 
-@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c == "column"
+@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c != "plug"
                                   else c for c in sorted(TINY)])
 def test_every_key_changes_a_result_or_is_rejected(case: str) -> None:
     scenario, base = TINY[case]
