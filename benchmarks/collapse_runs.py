@@ -18,9 +18,12 @@ import json
 from pathlib import Path
 
 from common.results import write_json
-from common.runs import COLLAPSE_KEYS, run_variant, surfaces_m
+from common.runs import COLLAPSE_KEYS, flow_duration, run_variant, surfaces_m
 
 from granflow.io.run_dir import RunDir
+
+LAYER_KEYS = ["layer_displaced_area_m2", "layer_mobilised_area_max_m2",
+              "layer_displaced_volume_m3", "layer_mobilised_volume_max_m3"]
 
 
 def compare(before: str, after: str, scenarios: list[str], out: Path) -> dict:
@@ -28,9 +31,14 @@ def compare(before: str, after: str, scenarios: list[str], out: Path) -> dict:
     result = {}
     for name in scenarios:
         first, second = out / before / name, out / after / name
-        figures = {tag: {k: RunDir.summary(root).get(k) for k in COLLAPSE_KEYS}
+        figures = {tag: {k: RunDir.summary(root).get(k) for k in COLLAPSE_KEYS + LAYER_KEYS}
+                   | {"duration_s": flow_duration(root)}
                    for tag, root in ((before, first), (after, second))}
-        result[name] = figures | {"free_surfaces": surfaces_m(first, second)}
+        changes = {k: figures[after][k] / figures[before][k] - 1
+                   for k in ("runout_m", "duration_s", *LAYER_KEYS)
+                   if figures[before].get(k) and figures[after].get(k) is not None}
+        result[name] = figures | {"relative_changes": changes,
+                                  "free_surfaces": surfaces_m(first, second)}
         print(name, json.dumps(result[name], indent=1), flush=True)
     write_json(out / f"{before}-vs-{after}.json", result)
     return result

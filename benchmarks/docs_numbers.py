@@ -84,9 +84,9 @@ CLAIMS: list[tuple[str, str, Path_, str]] = [
     ("docs/user_guide.md", "s, runout {} m) in", "erodible-quick.summary.runout_m", ".3f"),
     ("docs/user_guide.md", "against the defaults' run ({} triangles;",
      "erodible.summary.n_triangles", ",d"),
-    ("docs/user_guide.md", "still moving at t_end = {} s with its front",
-     "erodible.summary.t_final", ".2f"),
-    ("docs/user_guide.md", "with its front at {} m) in", "erodible.summary.runout_m", ".3f"),
+    ("docs/user_guide.md", "triangles; at rest from {} s, its front",
+     "erodible.summary.stop_time_s", ".3f"),
+    ("docs/user_guide.md", "its front at {} m) in", "erodible.summary.runout_m", ".3f"),
     # the nonlocal law: the collapse and the incline
     ("docs/user_guide.md", "comes to rest at {} s with a runout of",
      "nonlocal-collapse.summary.stop_time_s", ".3f"),

@@ -3,11 +3,13 @@ one invocation, on the same mesh.
 
 Run: python benchmarks/speed.py [--cases trapezoid rectangle erodible plug-flow stall ...]
          [--repeat N] [--process] [--today] [--half-step] [--out benchmarks/results/speed]
-     python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
-         [--out benchmarks/results/speed_targets]
+     python benchmarks/speed.py --targets [--pairs ...] [--repeat 3] [--conditions quiet busy]
+         [--baseline-src PATH] [--out benchmarks/results/speed_targets]
 
---targets times the erodible scenarios against their rigid twins, as users run them
-(``granflow run`` in a new process, figures included, ``speed_targets.py``): see there.
+--targets times the erodible scenarios against their rigid twins as users wait for them
+(``granflow run`` in a new process, figures included, whole-process wall and processor
+times, medians of alternating runs, on the machine as it is and beside a busy process,
+with the load average; ``speed_targets.py``): see there.
 
 A is the paper's algorithm: fixed-point iterations (3.2), the ramp of section 3.1
 (dt 1e-8 -> 1e-4, x1.1), tol 1e-4, w from u^n (3.6), run to t_end, on the same mesh

@@ -1,32 +1,40 @@
-"""Benchmark: what an erodible layer costs against a rigid bed, and the default collapse
-against an earlier version of granflow, each run as users run it, side by side.
+"""Benchmark: what an erodible layer costs against a rigid bed as users wait for it, each run
+a whole ``granflow run`` process, side by side, on a quiet machine and beside a busy one.
 
-Run: python benchmarks/speed.py --targets [--baseline-src PATH] [--repeat N]
-         [--pairs trapezoid cylinder slope22] [--src PATH --tag before]
-         [--out benchmarks/results/speed_targets]
+Run: python benchmarks/speed.py --targets [--pairs trapezoid cylinder slope22]
+         [--repeat 3] [--conditions quiet busy] [--baseline-src PATH]
+         [--src PATH --tag NAME] [--out benchmarks/results/speed_targets]
 
-Every run is ``granflow run SCENARIO --quiet`` in a new process (figures and animation
-included), one after the other and alternating within each pair, so that both members of a
-pair see the same load on this shared machine; the medians over REPEAT rounds of each
-process's processor time (user + system: what the load of other processes on the machine
-changes least) and wall time, and their ratios, are reported with each run's loop time
-(summary.json), steps and iterations:
+Every run is ``granflow run SCENARIO --quiet`` in a new process (start-up, figures and
+animation included), timed from outside: its wall time from start to exit, and the
+operating system's account of the finished child (``os.wait4``): processor time (user +
+system), peak memory, page faults and context switches. The members of a pair alternate
+(rigid, erodible, rigid, ...) so that both see the same machine; each figure is the median
+over REPEAT rounds, and a ratio is the median of the rounds' ratios. The load average
+(1 min) before each run is kept beside it.
+
+Conditions: ``quiet`` runs on the machine as it is; ``busy`` starts one process that spins
+on a core (a second busy process, as a user's laptop has) before the round and stops it
+after. Wall-time ratios are meaningful only when the quiet rounds ran on a quiet machine:
+the table says how loaded it was, and the targets are judged on the quiet wall times.
 
 * trapezoid: ``trapezoid-erodible`` against ``trapezoid-rigid``;
 * cylinder: ``cylinder-erodible`` against ``cylinder-rigid``;
 * slope22: the slope study's 22-degree row of the glass beads' mu(I) (``erosion_slopes.py``,
   variant ``glass-beads``: the rectangle over 5 mm, the layer 1.3 times its rigid twin's
-  front at 3 s, meshed 0.1 m ahead of the flow, to rest or to 3 s) against its rigid twin;
+  front at 3 s, meshed 0.1 m ahead of the flow, to rest or to 3 s) against its rigid twin,
+  with granflow's defaults for the mesh and the tension (the study's rows pinned the
+  uniform mesh of their time);
 * baseline (with ``--baseline-src``, the ``src`` folder of a checkout of an earlier
   commit): ``trapezoid-rigid`` run by that code (``PYTHONPATH``) against this one.
 
-The targets (``TARGETS``): the erodible trapezoid at most 2.5 and the erodible cylinder at
-most 2 times their rigid twins' processor time, the 22-degree erodible row in at most 300 s
-of processor time. ``--src PATH --tag NAME`` runs the pairs with an earlier checkout's code
-and files them under NAME (e.g. ``before``): the table then shows each erodible run's
-triangles, steps and iterations before and after.
+The targets (``TARGETS``, wall time on a quiet machine): each erodible run at most 2.5 times
+its rigid twin, the 22-degree erodible row in at most 300 s. ``--src PATH --tag NAME`` runs
+the pairs with an earlier checkout's code and files them under NAME.
 
-Writes OUT/speed_targets.json and OUT/speed_targets.md and prints the tables.
+In each pair the rigid run comes first and the erodible second (for the baseline: the
+earlier code, then this one). Writes OUT/speed_targets.json and OUT/speed_targets.md and
+prints the tables.
 """
 
 from __future__ import annotations
@@ -34,7 +42,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
@@ -47,97 +54,158 @@ from erosion_slopes import overrides as slope_overrides
 # the glass beads' rigid rectangle at 22 degrees: its front at t = 3 s, still moving
 # (``granflow run rectangle-rigid`` with ``slope_overrides("glass-beads", "rectangle", 0, 22)``)
 RIGID_22_FRONT_M = 2.8946
+PINNED = ("mesh.adaptive=", "surface_tension.length=")   # the study's rows' own mesh, tension
+
+
+def _slope22(he: float, rigid_front: float | None) -> list[str]:
+    return [o for o in slope_overrides("glass-beads", "rectangle", he, 22.0, rigid_front)
+            if not o.startswith(PINNED)]
+
+
 PAIRS = {
     "trapezoid": (("trapezoid-rigid", []), ("trapezoid-erodible", [])),
     "cylinder": (("cylinder-rigid", []), ("cylinder-erodible", [])),
-    "slope22": (("rectangle-rigid", slope_overrides("glass-beads", "rectangle", 0.0, 22.0,
-                                                     None)),
-                ("rectangle-rigid", slope_overrides("glass-beads", "rectangle", 0.005, 22.0,
-                                                     RIGID_22_FRONT_M))),
+    "slope22": (("rectangle-rigid", _slope22(0.0, None)),
+                ("rectangle-rigid", _slope22(0.005, RIGID_22_FRONT_M))),
 }
-# pair: (what is measured, at most): the processor-time ratio erodible / rigid, or the
-# erodible run's processor time (s)
-TARGETS = {"trapezoid": ("ratio", 2.5), "cylinder": ("ratio", 2.0),
-           "slope22": ("processor time (s)", 300.0)}
-KEYS = ["status", "wall_time_s", "steps", "nonlinear_iterations", "n_triangles",
-        "remeshes", "stop_time_s", "runout_m"]
+# pair: (what is measured, at most): the wall-time ratio erodible / rigid, or the erodible
+# run's wall time (s), on a quiet machine
+TARGETS = {"trapezoid": ("ratio", 2.5), "cylinder": ("ratio", 2.5),
+           "slope22": ("wall time (s)", 300.0)}
+QUIET_LOAD = 0.5    # load average (1 min) above which the machine was not quiet
+BUSY = "while True:\n    pass\n"
+KEYS = ["status", "wall_time_s", "steps", "rejected_steps", "nonlinear_iterations",
+        "n_triangles", "remeshes", "stop_time_s", "runout_m"]
 
 
 def run(scenario: str, sets: list[str], out: Path, src: Path | None = None) -> dict:
-    """One ``granflow run`` in a new process; its whole wall time and summary figures."""
+    """One ``granflow run`` in a new process: its wall time, the system's account of it
+    (processor time, peak memory, faults, switches), the load before it, its summary."""
     env = dict(os.environ)
     if src is not None:
         env["PYTHONPATH"] = str(src)
     command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out),
                "--force", "--quiet", *(arg for o in sets for arg in ("--set", o))]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    load = os.getloadavg()[0]
     start = time.perf_counter()
-    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, env=env)
+    child = subprocess.Popen(command, stdout=subprocess.DEVNULL, env=env)
+    _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if status != 0:
+        raise RuntimeError(f"{' '.join(command)} exited with status {status}")
     summary = json.loads((out / "summary.json").read_text())
-    return {"process_wall_time_s": wall, "process_cpu_time_s": cpu} | {
-        k: summary.get(k) for k in KEYS}
+    return {"process_wall_time_s": wall,
+            "process_cpu_time_s": usage.ru_utime + usage.ru_stime,
+            "user_s": usage.ru_utime, "system_s": usage.ru_stime,
+            "peak_memory_mb": usage.ru_maxrss / 1024, "minor_faults": usage.ru_minflt,
+            "involuntary_switches": usage.ru_nivcsw, "voluntary_switches": usage.ru_nvcsw,
+            "load_before": load} | {k: summary.get(k) for k in KEYS}
+
+
+class Busy:
+    """One process spinning on a core while the block runs (the ``busy`` condition)."""
+
+    def __init__(self, on: bool) -> None:
+        self.on, self.process = on, None
+
+    def __enter__(self) -> Busy:
+        if self.on:
+            self.process = subprocess.Popen([sys.executable, "-c", BUSY])
+            time.sleep(1.0)     # let it start spinning
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.process is not None:
+            self.process.kill()
+            self.process.wait()
+
+
+def median(rows: list[dict], key: str) -> float:
+    return statistics.median(r[key] for r in rows)
 
 
 def compare(name: str, first: tuple[str, list[str], Path | None],
-            second: tuple[str, list[str], Path | None], repeat: int, out: Path) -> dict:
-    """Both members of a pair, alternately, REPEAT times; medians and their ratio."""
-    runs: dict[str, list[dict]] = {"first": [], "second": []}
+            second: tuple[str, list[str], Path | None], repeat: int,
+            conditions: list[str], out: Path) -> dict:
+    """Both members of a pair, alternately, REPEAT rounds in each condition."""
+    runs: dict[str, dict[str, list[dict]]] = {c: {"first": [], "second": []}
+                                              for c in conditions}
     for k in range(repeat):
-        for label, (scenario, sets, src) in (("first", first), ("second", second)):
-            result = run(scenario, sets, out / name / f"{label}{k}", src)
-            runs[label].append(result)
-            report(f"{name} {label} {k}", result)
-    median = {label: statistics.median(r["process_wall_time_s"] for r in rows)
-              for label, rows in runs.items()}
-    cpu = {label: statistics.median(r["process_cpu_time_s"] for r in rows)
-           for label, rows in runs.items()}
-    loop = {label: statistics.median(r["wall_time_s"] for r in rows)
-            for label, rows in runs.items()}
+        for condition in conditions:
+            with Busy(condition == "busy"):
+                for label, (scenario, sets, src) in (("first", first), ("second", second)):
+                    result = run(scenario, sets, out / name / f"{condition}-{label}{k}", src)
+                    runs[condition][label].append(result)
+                    report(f"{name} {condition} {label} {k}", result)
+    stats = {}
+    for condition, rows in runs.items():
+        ratios = [b["process_wall_time_s"] / a["process_wall_time_s"]
+                  for a, b in zip(rows["first"], rows["second"], strict=True)]
+        cpu_ratios = [b["process_cpu_time_s"] / a["process_cpu_time_s"]
+                      for a, b in zip(rows["first"], rows["second"], strict=True)]
+        stats[condition] = {
+            "wall_s": {lab: median(r, "process_wall_time_s") for lab, r in rows.items()},
+            "cpu_s": {lab: median(r, "process_cpu_time_s") for lab, r in rows.items()},
+            "wall_ratio": statistics.median(ratios), "cpu_ratio": statistics.median(cpu_ratios),
+            "load_before": median(rows["first"] + rows["second"], "load_before")}
     return {"first": {"scenario": first[0], "overrides": first[1],
                       "src": str(first[2]) if first[2] else None},
             "second": {"scenario": second[0], "overrides": second[1],
                        "src": str(second[2]) if second[2] else None},
-            "runs": runs, "process_wall_time_median_s": median,
-            "process_cpu_time_median_s": cpu,
-            "cpu_ratio_second_to_first": cpu["second"] / cpu["first"],
-            "loop_wall_time_median_s": loop,
-            "ratio_second_to_first": median["second"] / median["first"],
-            "loop_ratio_second_to_first": loop["second"] / loop["first"]}
+            "runs": runs, "stats": stats}
 
 
-def target_lines(results: dict) -> list[str]:
-    """Each pair's measure against its target (``TARGETS``)."""
-    lines = ["| pair | measure | measured | target (at most) | met |", "|---|---|---|---|---|"]
-    for name, (measure, limit) in TARGETS.items():
-        if name not in results:
-            continue
-        r = results[name]
-        value = (r["cpu_ratio_second_to_first"] if measure == "ratio"
-                 else r["process_cpu_time_median_s"]["second"])
-        lines.append(f"| {name} | {measure} | {value:.2f} | {limit:g} | "
-                     f"{'yes' if value <= limit else 'no'} |")
-    if "slope22" in results:    # its ratio too: the third side-by-side ratio
-        lines.append(f"| slope22 | ratio | {results['slope22']['cpu_ratio_second_to_first']:.2f}"
-                     " | - | - |")
+def pair_lines(results: dict) -> list[str]:
+    lines = ["| pair | condition | load (1 min) | wall time (s), first / second | ratio "
+             "| processor time (s), first / second | ratio | iterations | remeshes |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for name, r in results.items():
+        for condition, s in r["stats"].items():
+            rows = r["runs"][condition]
+            its = " / ".join(str(rows[k][0]["nonlinear_iterations"]) for k in rows)
+            meshes = " / ".join(str(rows[k][0]["remeshes"]) for k in rows)
+            w, c = s["wall_s"], s["cpu_s"]
+            lines.append(f"| {name} | {condition} | {s['load_before']:.1f} | "
+                         f"{w['first']:.1f} / {w['second']:.1f} | {s['wall_ratio']:.2f} | "
+                         f"{c['first']:.1f} / {c['second']:.1f} | {s['cpu_ratio']:.2f} | "
+                         f"{its} | {meshes} |")
     return lines
 
 
-def before_after_lines(results: dict, tag: str) -> list[str]:
-    """The erodible run of each pair with the code filed under ``tag`` and this one."""
-    lines = [f"| pair | triangles, {tag} / now | steps | iterations | remeshes "
-             "| processor time (s) |", "|---|---|---|---|---|---|"]
-    for name in PAIRS:
-        if name not in results or f"{tag}/{name}" not in results:
+def target_lines(results: dict) -> list[str]:
+    """Each pair's measure against its target, on the quiet wall times."""
+    lines = ["| pair | measure | wall time (quiet) | processor time | target (at most) | met |",
+             "|---|---|---|---|---|---|"]
+    for name, (measure, limit) in TARGETS.items():
+        if name not in results or "quiet" not in results[name]["stats"]:
             continue
-        old, new = results[f"{tag}/{name}"], results[name]
-        rows = [r["runs"]["second"][0] for r in (old, new)]
-        cells = [f"{rows[0].get(k)} / {rows[1].get(k)}" for k in
-                 ("n_triangles", "steps", "nonlinear_iterations", "remeshes")]
-        cpu = [r["process_cpu_time_median_s"]["second"] for r in (old, new)]
-        lines.append(f"| {name} | {' | '.join(cells)} | {cpu[0]:.0f} / {cpu[1]:.0f} |")
+        s = results[name]["stats"]["quiet"]
+        wall, cpu = ((s["wall_ratio"], s["cpu_ratio"]) if measure == "ratio"
+                     else (s["wall_s"]["second"], s["cpu_s"]["second"]))
+        quiet = s["load_before"] <= QUIET_LOAD + 1.0   # our own run counts for one
+        verdict = ("yes" if wall <= limit else "no") if quiet else (
+            f"not judged: load {s['load_before']:.1f}, rerun on a quiet machine")
+        lines.append(f"| {name} | {measure} | {wall:.2f} | {cpu:.2f} | {limit:g} | {verdict} |")
+    return lines
+
+
+def load_lines(results: dict) -> list[str]:
+    """What a second busy process does to each run: busy over quiet, and why."""
+    lines = ["| pair | member | wall busy / quiet | processor busy / quiet | involuntary "
+             "switches, quiet / busy | minor faults | peak memory (MB) |",
+             "|---|---|---|---|---|---|---|"]
+    for name, r in results.items():
+        if not {"quiet", "busy"} <= set(r["runs"]):
+            continue
+        for label, member in (("first", "rigid"), ("second", "erodible")):
+            q, b = r["runs"]["quiet"][label], r["runs"]["busy"][label]
+            lines.append(
+                f"| {name} | {member} | "
+                f"{median(b, 'process_wall_time_s') / median(q, 'process_wall_time_s'):.2f} | "
+                f"{median(b, 'process_cpu_time_s') / median(q, 'process_cpu_time_s'):.2f} | "
+                f"{median(q, 'involuntary_switches'):.0f} / "
+                f"{median(b, 'involuntary_switches'):.0f} | {median(q, 'minor_faults'):.0f} | "
+                f"{median(q, 'peak_memory_mb'):.0f} |")
     return lines
 
 
@@ -145,10 +213,12 @@ def main(argv: list[str]) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", nargs="*", default=list(PAIRS), choices=list(PAIRS),
                         help="the scenario pairs (none: only the baseline)")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--conditions", nargs="+", default=["quiet", "busy"],
+                        choices=["quiet", "busy"])
     parser.add_argument("--baseline-src", type=Path,
                         help="src folder of an earlier granflow checkout: time its default "
                              "collapse against this one's")
-    parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--src", type=Path,
                         help="src folder of an earlier checkout: run the pairs with its code")
     parser.add_argument("--tag", default="",
@@ -156,7 +226,7 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/speed_targets"))
     args = parser.parse_args(argv)
     results_file = args.out / "speed_targets.json"
-    results = read_results(results_file)
+    results = {k: v for k, v in read_results(results_file).items() if "stats" in v}
     src = args.src.resolve() if args.src is not None else None
     prefix = f"{args.tag}/" if args.tag else ""
     cases = {prefix + name: ((*PAIRS[name][0], src), (*PAIRS[name][1], src))
@@ -165,22 +235,10 @@ def main(argv: list[str]) -> None:
         cases["baseline"] = (("trapezoid-rigid", [], args.baseline_src.resolve()),
                              ("trapezoid-rigid", [], None))
     for name, (first, second) in cases.items():
-        results[name] = compare(name, first, second, args.repeat, args.out / "runs")
+        results[name] = compare(name, first, second, args.repeat, args.conditions,
+                                args.out / "runs")
         write_json(results_file, results)
-    lines = ["| pair | first | second | processor time (s), first / second | second / first "
-             "| wall time (s), first / second | second / first | iterations, first / second |",
-             "|---|---|---|---|---|---|---|---|"]
-    for name, r in results.items():
-        p, c = r["process_wall_time_median_s"], r["process_cpu_time_median_s"]
-        its = [r["runs"][k][0]["nonlinear_iterations"] for k in ("first", "second")]
-        lines.append(f"| {name} | {r['first']['scenario']} | {r['second']['scenario']} | "
-                     f"{c['first']:.1f} / {c['second']:.1f} | {r['cpu_ratio_second_to_first']:.2f} "
-                     f"| {p['first']:.1f} / {p['second']:.1f} | {r['ratio_second_to_first']:.2f} "
-                     f"| {its[0]} / {its[1]} |")
-    tags = sorted({k.split("/")[0] for k in results if "/" in k})
-    lines += ["", *target_lines(results)]
-    for tag in tags:
-        lines += ["", *before_after_lines(results, tag)]
+    lines = [*pair_lines(results), "", *target_lines(results), "", *load_lines(results)]
     write_markdown(args.out / "speed_targets.md", lines, show=True)
 
 

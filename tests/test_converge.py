@@ -44,6 +44,9 @@ def test_time_levels_of_adaptive_steps_halve_the_step_per_level() -> None:
         t.error_tol / 64)                           # 2^(k (q + 1)), q = 2
     coarse = load_config("rectangle-rigid", ["time.dt_init=1e-3"])
     assert level_overrides(coarse, "time", 1)["time.dt_init"] == 5e-4   # capped at dt_max
+    slow = load_config("trapezoid-erodible")     # a slow flow's larger cap halves too
+    assert level_overrides(slow, "time", 1)["time.dt_max_slow"] == pytest.approx(
+        slow.time.dt_max_slow / 2)
 
 
 def test_time_levels_of_a_fixed_step_and_of_the_paper_ramp() -> None:

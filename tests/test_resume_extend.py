@@ -23,13 +23,14 @@ from granflow.io.run_dir import RunDir
 from granflow.io.run_state import SimulationState
 
 # 2 cm layer of its own friction angle, one cell across, 5 cm mesh: about 200 triangles,
-# 156 steps, remeshes at steps 114, 133 and 152 (about 7 s)
+# 156 steps, remeshes at steps 113 and 123 (about 7 s)
 # (isotropic cells and a tight tolerance: the remeshes come after the checkpoint; Anderson's
 # mixing as in the scenario)
 ERODIBLE = {"mesh.size": 0.05, "geometry.erodible_thickness": 0.02, "mesh.layer_cells": 1,
             "mesh.layer_aspect": 1.0, "numerics.tol": 3e-5, "numerics.anderson_depth": 3,
             "layer.friction_angle_deg": 30.0, "time.t_end": 0.15,
-            "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10}
+            "time.output_times": [0.1, 0.15], "output.checkpoint_every": 10,
+            "time.dt_max_slow": None}          # steps of at most dt_max: the steps above
 KILLED_AT = 110        # a checkpoint before the remeshes
 
 
@@ -63,7 +64,7 @@ def test_a_killed_erodible_run_resumes_to_the_same_result(uninterrupted,
     resumed = granflow.resume(killed)
     first, again = summary(reference), summary(killed)
     assert again["status"] == "completed" and again["resumed"] is True
-    assert first["two_materials"] is True and first["remeshes"] >= 3
+    assert first["two_materials"] is True and first["remeshes"] >= 2
     # the same arithmetic: every diagnostics row equal (to round-off: here exactly)
     a, b = pd.read_csv(reference / "diagnostics.csv"), resumed.diagnostics
     assert len(a) == len(b) == first["steps"]

@@ -12,11 +12,10 @@ import os
 # docs/performance.md); set before numpy or NGSolve load OpenBLAS. An explicit user setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")    # PARDISO (MKL): one thread, like NGSolve
-# MKL picks its kernels by the CPU, and they round differently: the same run differs from one
-# machine to another (docs/performance.md, Reproducibility). Its conditional numerical
-# reproducibility mode, SSE2 kernels on every x86-64 CPU, makes a run the same everywhere; read
-# when MKL first computes, which is after this.
-os.environ.setdefault("MKL_CBWR", "COMPATIBLE")
+# MKL picks its kernels by the CPU, and they round differently: the same run differs in its
+# last digits from one machine to another. MKL_CBWR=COMPATIBLE (its SSE2 kernels on every
+# x86-64 CPU) makes a run the same everywhere, at a price measured in docs/performance.md
+# (Reproducibility) that keeps it a switch, not the default.
 
 __version__ = "0.2.0"
 

@@ -41,6 +41,12 @@ REPRODUCIBILITY = "reproducibility/reproducibility.json"
 START_3D = "three_d_collapse_start/start_h0.02.json"
 START_3D_CONSERVED = "three_d_collapse_start/start_h0.02_conserved.json"
 MAIN_VS_3D = "collapse/main-vs-three-d.json"
+MKL_MODES = "mkl_modes/mkl_modes.json"
+
+
+def _compatible_extra(case: str) -> Callable[[Any], float]:
+    """The fraction of processor time the reproducible MKL kernels add to ``case``."""
+    return lambda data: data[case]["ratio_compatible_to_auto"]["cpu_s"] - 1
 
 
 PACKING = "packing/validation.json"
@@ -118,6 +124,19 @@ def _cylinders(select: Callable[[float], bool], quantity: str = "runout") -> Cal
         return [100 * (r / lube - 1) for a, r, lube in zip(
             d["a"], d["normalised_runout"], d["lube_2004_runout"], strict=True) if select(a)]
     return values
+
+
+ERODIBLE_SPEED = "erodible_speed/erodible_speed.json"
+
+
+def _stop(comparison: str, run: str, which: int) -> Callable[[Any], float]:
+    """A run's rest-rule stop time in a comparison of two codes (0: before, 1: after)."""
+    return lambda d: d[comparison][run]["counts"]["stop_time_s"][which]
+
+
+def _stop_change(comparison: str, run: str) -> Callable[[Any], float]:
+    """How much (in %) a run's rest-rule stop time moved in a comparison."""
+    return lambda d: 100 * (_stop(comparison, run, 1)(d) / _stop(comparison, run, 0)(d) - 1)
 
 
 CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
@@ -288,6 +307,12 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _path_run("default", "refactorise_ms 26525 unknowns"), ".0f", 1),
     ("docs/performance.md", "| 3.1 / 170 | 7.8 / {} |", REPRODUCIBILITY,
      _path_run("COMPATIBLE", "refactorise_ms 26525 unknowns"), ".0f", 1),
+    ("docs/performance.md", "cost 1 to 2 % on the default trapezoids, {} % on the cylinder",
+     MKL_MODES, _compatible_extra("cylinder-rigid"), ".0f", 100),
+    ("docs/performance.md", "% on the cylinder and {} % on the 20,000-triangle mesh",
+     MKL_MODES, _compatible_extra("mesh-20k"), ".0f", 100),
+    ("CHANGELOG.md", "whose SSE2 kernels cost {} % more processor time", MKL_MODES,
+     _compatible_extra("mesh-20k"), ".0f", 100),
     # --- three dimensions (benchmarks/three_d_collapse_start.py, collapse_runs.py --compare)
     ("docs/three_d.md", "the front has moved {} mm at t = 0.04 s", START_3D, _front_moved,
      ".1f", 1e3),
@@ -317,6 +342,21 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      ".4f", 1),
     ("docs/verification.md", "s against {} s, load", PACKING_COST,
      _step_cost("incompressible"), ".4f", 1),
+    # --- the erodible bed on the user's clock (benchmarks/erodible_speed.py and py-spy)
+    ("docs/performance.md", "the tracking fell from {} % to",
+     "profile_shares/trapezoid-erodible-284e367.json", "shares.erodible layer tracking",
+     ".1f", 100),
+    ("docs/performance.md", "% to {} % of the process; a flow over a layer",
+     "profile_shares/trapezoid-erodible-cc22b00.json", "shares.erodible layer tracking",
+     ".1f", 100),
+    ("docs/performance.md", "rest rule from {} to", ERODIBLE_SPEED,
+     _stop("base-vs-head", "trapezoid-rigid", 0), ".4f", 1),
+    ("docs/performance.md", "to {} s.\n\nThe remeshes are not yet", ERODIBLE_SPEED,
+     _stop("base-vs-head", "trapezoid-rigid", 1), ".4f", 1),
+    ("docs/performance.md", "[The time integrator](#the-time-integrator) (1 and {} mm)",
+     ERODIBLE_SPEED, "criteria.surface_max_mm", ".0f", 1),
+    ("docs/performance.md", "The cylinder's rest rule moves by {} %: it is decided",
+     ERODIBLE_SPEED, _stop_change("head-vs-slow", "cylinder-erodible"), ".0f", 1),
     # --- the slab and the rigid bed's models (benchmarks/slab.py, benchmarks/bed_models.py)
     ("docs/erosion.md", r"| **no-slip bed and \(\eta\) = 0.01: drucker-prager** | **{}** |",
      SLAB, _slab_ratio("drucker-prager/no-slip+small-eta", 0), ".2f", 1),

@@ -108,6 +108,24 @@ def test_adaptive_step_is_capped_and_hits_stops() -> None:
     assert policy.propose(0.08)[0] == pytest.approx(0.02)   # up to the output time
 
 
+def test_a_slow_flow_raises_the_cap_up_to_dt_max_slow_and_a_fast_one_keeps_dt_max() -> None:
+    """The cap is the step in which the RMS speed carries the flow slow_travel, between
+    dt_max and dt_max_slow; without dt_max_slow it is dt_max whatever the speed."""
+    def grown(policy: AdaptiveStep, speed: float) -> float:
+        for _ in range(20):           # no error: the controller grows to the cap
+            policy.accepted(policy.next_dt, LocalError(0.0, speed))
+        return policy.next_dt
+
+    slow = dict(dt_init=0.001, dt_max=0.01, t_end=100.0)
+    assert grown(adaptive(**slow, dt_max_slow=0.04, slow_travel=1e-3), 0.05) == \
+        pytest.approx(0.02)                                   # 1 mm at 5 cm/s
+    assert grown(adaptive(**slow, dt_max_slow=0.04, slow_travel=1e-3), 1e-4) == \
+        pytest.approx(0.04)                                   # creeping: dt_max_slow
+    assert grown(adaptive(**slow, dt_max_slow=0.04, slow_travel=1e-3), 1.0) == \
+        pytest.approx(0.01)                                   # fast: dt_max
+    assert grown(adaptive(**slow), 1e-4) == pytest.approx(0.01)   # off
+
+
 def test_adaptive_keeps_its_step_after_a_step_shortened_by_a_landing() -> None:
     policy = adaptive(dt_init=0.01)
     policy.accepted(0.002, LocalError(1e-6, 1.0))           # shortened, small error

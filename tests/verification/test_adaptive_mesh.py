@@ -103,6 +103,7 @@ def test_a_checkpoint_keeps_the_field_and_the_resumed_run_goes_on(
     assert twin.remesher.size_field.windows[-1, 1] >= field.windows[-1, 1]   # the front went on
 
 
+@pytest.mark.slow   # two runs to 0.15 s on 4 cm cells: the longest of the default suite
 def test_the_surface_tension_on_a_graded_mesh_leaves_a_strong_layer_in_place() -> None:
     """A 60-degree layer under the 25.5-degree column while the tension acts at the
     column's foot on the graded mesh: displaced by less than a third of a layer of the

@@ -72,6 +72,7 @@ def test_short_run_on_a_20_degree_slope() -> None:
     assert fronts[20.0] > fronts[0.0] > 0.2
 
 
+@pytest.mark.slow   # the whole layer's run and the layer meshed ahead, to 0.3 s
 def test_a_layer_meshed_ahead_of_the_flow_gives_the_whole_layers_run(tmp_path) -> None:
     """mesh.layer_ahead = 5 cm: the layer is meshed only ahead of the moving material and
     lengthened as the flow comes (a 10 deg slope, 20 deg friction, 0.15 s, 4 cm cells). The

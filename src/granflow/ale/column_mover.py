@@ -35,7 +35,8 @@ from granflow.ale.free_surface import (
     BoundaryChain,
     PolygonMeasure,
     conserve_area,
-    segments_intersect,
+    crossing_segments,
+    pocket,
 )
 from granflow.ale.mesh_motion import (
     AleMover,
@@ -115,6 +116,8 @@ class ColumnMover(AleMover):
         self.relabelled_segments = 0
         self.limited_steps = 0
         self._tension_accepted: TensionState | None = None   # the tension before the move
+        # the surface vertices a refused move folded over (``pocket``): the remesh cuts them
+        self.fold_pocket: np.ndarray = np.empty(0, dtype=np.int64)
         # the volume fix: relative area restored at the last move, and summed over the run
         # (|.| and signed), so that a volume error of 0 by construction says what it cost
         self.step_correction = 0.0
@@ -208,6 +211,7 @@ class ColumnMover(AleMover):
     def move(self, dt: float) -> None:
         super().move(dt)
         self._dt = dt
+        self.fold_pocket = np.empty(0, dtype=np.int64)
         xy = self.mesh.ngmesh.Coordinates()
         bed, wall = self._on_bed(), self._on_wall()
         end, gate = self._on_end(), self._on_gate()
@@ -302,7 +306,10 @@ class ColumnMover(AleMover):
         if (np.any(self.support.bed.height(xy) < -CROSS)
                 or any(np.any(line.height(xy) < -CROSS) for line in lines)):
             return MoveFailure.CROSSED_WALL
-        if segments_intersect(xy, self.chain.segments):
+        crossing = crossing_segments(xy, self.chain.segments)
+        if len(crossing):
+            self.fold_pocket = pocket(self.chain.segments, self.chain.labels(),
+                                      self.chain.index[SURFACE], crossing)
             return MoveFailure.SELF_INTERSECTS
         return None
 

@@ -86,7 +86,12 @@ class BoundaryChain:
 
 
 def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
-    """True if two non-adjacent boundary segments cross (the surface folded through).
+    """True if two non-adjacent boundary segments cross (the surface folded through)."""
+    return len(crossing_segments(xy, segments)) > 0
+
+
+def crossing_segments(xy: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """(k, 2) indices of the pairs of non-adjacent boundary segments that cross.
 
     Two segments can only cross if their midpoints lie within the longer one's length of
     each other. The candidate pairs among the segments up to LONG x the median length come
@@ -98,8 +103,9 @@ def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
     d = q - p
     length = np.hypot(d[:, 0], d[:, 1])
     n = len(segments)
+    none = np.empty((0, 2), dtype=np.int64)
     if n < 2:
-        return False
+        return none
     long = length > LONG * np.median(length)
     short = np.flatnonzero(~long)
     reach = float(np.max(length[short], initial=0.0)) * (1 + 1e-9)
@@ -109,14 +115,20 @@ def segments_intersect(xy: np.ndarray, segments: np.ndarray) -> bool:
         others = np.delete(np.arange(n), k)
         pairs.append(np.column_stack([np.full(len(others), k), others]))
     if not pairs:
-        return False
+        return none
     i, j = np.concatenate(pairs).T
-    return pairs_cross(xy, segments, i, j)
+    return crossing(xy, segments, i, j)
 
 
 def pairs_cross(xy: np.ndarray, segments: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
     """True if, among the segment pairs (i[k], j[k]), two that share no vertex cross
     properly (each one's end points strictly on both sides of the other's line)."""
+    return len(crossing(xy, segments, i, j)) > 0
+
+
+def crossing(xy: np.ndarray, segments: np.ndarray, i: np.ndarray, j: np.ndarray
+             ) -> np.ndarray:
+    """The segment pairs (i[k], j[k]) that share no vertex and cross properly, (k, 2)."""
     p, q = xy[segments[:, 0]], xy[segments[:, 1]]
     d = q - p
     share = np.any(segments[i][:, :, None] == segments[j][:, None, :], axis=(1, 2))
@@ -127,7 +139,34 @@ def pairs_cross(xy: np.ndarray, segments: np.ndarray, i: np.ndarray, j: np.ndarr
 
     r = cross(d[i], p[j] - p[i]), cross(d[i], q[j] - p[i])
     s = cross(d[j], p[i] - p[j]), cross(d[j], q[i] - p[j])
-    return bool(np.any((r[0] * r[1] < 0) & (s[0] * s[1] < 0)))
+    hit = (r[0] * r[1] < 0) & (s[0] * s[1] < 0)
+    return np.column_stack([i[hit], j[hit]])
+
+
+def pocket(segments: np.ndarray, labels: np.ndarray, surface: int,
+           pairs: np.ndarray) -> np.ndarray:
+    """The free-surface vertices a fold encloses: for each crossing pair of boundary
+    segments, the vertices between them along the boundary, the shorter way round, when
+    every edge on that way is free surface (a pocket of the surface closing on itself,
+    never one cut off by the bed or a wall). Dropped by the remesh, they leave the surface
+    running straight across the pocket, as ``ale/remesh.close_folds`` does where a fold
+    has touched."""
+    after = dict(segments.tolist())
+    label_of = {int(a): int(lab) for (a, _), lab in zip(segments, labels, strict=True)}
+    loop = [int(segments[0, 0])]
+    while len(loop) < len(segments) and after[loop[-1]] != loop[0]:
+        loop.append(after[loop[-1]])
+    at = {v: k for k, v in enumerate(loop)}
+    n, out = len(loop), set()
+    for a, b in pairs:
+        ka, kb = at[int(segments[a, 0])], at[int(segments[b, 0])]
+        first, count = (ka, (kb - ka) % n) if (kb - ka) % n <= (ka - kb) % n else (
+            kb, (ka - kb) % n)
+        inside = [loop[(first + k) % n] for k in range(1, count + 1)]
+        edges = [loop[(first + k) % n] for k in range(count + 1)]
+        if all(label_of[v] == surface for v in edges):
+            out.update(inside)
+    return np.array(sorted(out), dtype=np.int64)
 
 
 @dataclass(frozen=True)

@@ -85,7 +85,7 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
            measure: PolygonMeasure = AREA, layer_end: float | None = None,
            layer_top: float = 0.0, stretch: LayerStretch = ISOTROPIC,
            bed: BedProfile | None = None, maxh: float | None = None,
-           restrict: np.ndarray | None = None) -> Remeshed:
+           restrict: np.ndarray | None = None, cut: np.ndarray | None = None) -> Remeshed:
     """A fresh Netgen mesh of the current domain with the same labelled boundary.
 
     Vertices inside a straight run of bed or wall edges are dropped (the run is one line,
@@ -106,11 +106,17 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     ``stretch``: the layer's cells stretched along it, as the first mesh made them
     (``edge_size`` then gives lengths in the stretched coordinates). ``maxh`` (default
     ``size``) is the largest edge and ``restrict`` (k, 3) the points (x, z, h) where the
-    mesh must be finer (a size field from the flow, ``ale/size_field.py``).
+    mesh must be finer (a size field from the flow, ``ale/size_field.py``). ``cut``: inner
+    free-surface vertices dropped at once, the pocket a move found folding over
+    (``free_surface.pocket``): the surface then runs straight across it, as where a fold
+    has touched (``close_folds``), and the area fix restores the area it filled.
     """
     loop, labels = boundary_loop(BoundaryChain(mesh))
     xy = mesh.ngmesh.Coordinates()
     area = measure.size(xy[loop], _ring(len(loop)))
+    if cut is not None and len(cut):
+        kept = ~np.isin(loop, cut)
+        loop, labels = loop[kept], [lab for lab, k in zip(labels, kept, strict=True) if k]
     loop_xy, labels = with_bed_corners(xy[loop], labels, bed)
     keep = kept_boundary_vertices(loop_xy, labels, MIN_SURFACE_EDGE * size)
     points = [tuple(loop_xy[i]) for i in keep]

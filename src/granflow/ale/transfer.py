@@ -16,6 +16,7 @@ import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
+from granflow.fem.locator import PointLocator
 from granflow.fem.measure import PLANE, Coordinates
 
 INWARD_NUDGE = 1e-9  # relative to the segment length: how far inside a clamped point sits
@@ -26,25 +27,21 @@ def boundary_segments(mesh: ngs.Mesh) -> np.ndarray:
     return mesh.ngmesh.Elements1D().NumPy()["nodes"][:, :2].astype(np.int64) - 1
 
 
-def locate(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
-    """NGSolve mesh points of ``points`` (n, 2), found in one vectorised call; the ``nr``
-    field is -1 for a point outside the mesh."""
-    return mesh(np.ascontiguousarray(points[:, 0], dtype=float),
-                np.ascontiguousarray(points[:, 1], dtype=float))
-
-
-def clamp_inside(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
+def clamp_inside(mesh: ngs.Mesh, points: np.ndarray,
+                 locator: PointLocator | None = None) -> np.ndarray:
     """Each point moved onto the nearest boundary point of ``mesh`` (just inside) when it
     lies outside the mesh; points inside are returned unchanged.
 
     Vectorised (a remesh of a long erodible layer transfers tens of thousands of points,
     thousands of them outside, against thousands of boundary segments): one
-    point location for all points, and for those outside only the segments a k-d tree of
-    segment midpoints cannot rule out. The nearest segment is the same as an all-pairs
-    search would find, ties going to the lowest segment number.
+    point location for all points (``locator``, the mesh's, made here if not given), and
+    for those outside only the segments a k-d tree of segment midpoints cannot rule out.
+    The nearest segment is the same as an all-pairs search would find, ties going to the
+    lowest segment number.
     """
     out = np.array(points, dtype=float)
-    outside = np.flatnonzero(locate(mesh, out)["nr"] < 0)
+    element, _ = (locator or PointLocator(mesh)).locate(out)
+    outside = np.flatnonzero(element < 0)
     if outside.size == 0:
         return out
     xy = mesh.ngmesh.Coordinates()
@@ -100,18 +97,10 @@ def clamp_all_pairs(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     return out
 
 
-def _evaluate(field: ngs.CoefficientFunction, mesh: ngs.Mesh, inside: np.ndarray) -> np.ndarray:
-    """Values of ``field`` at points inside ``mesh``, (n, dim). Point by point: NGSolve's
-    vectorised evaluation (field(locate(...))) differs from it by round-off (1e-13), which
-    would move the verified runs through their remeshes."""
-    values = [field(mesh(float(x), float(y))) for x, y in inside]
-    return np.atleast_2d(np.asarray(values, dtype=float).reshape(len(inside), -1))
-
-
 def sample(field: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     """Values of ``field`` (living on ``mesh``) at ``points`` clamped into the mesh."""
-    mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
-    return _evaluate(field, mesh, clamp_inside(mesh, points))
+    locator = PointLocator(mesh)
+    return locator.values(field, clamp_inside(mesh, points, locator))
 
 
 def _edge_midpoints(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -138,7 +127,7 @@ class StateTransfer:
                                    for e in range(len(self.ends))])
         bubble = ngs.GridFunction(scalar)
         bubble.vec.FV().NumPy()[self.edge_dofs] = 1.0
-        self.bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in self.mid])
+        self.bubble_mid = PointLocator(mesh).values(bubble, self.mid)[:, 0]
         # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0, with
         # the measure and divergence of the coordinates (r-weighted in axisymmetry)
         (u, lam), (v, q) = space.TnT()
@@ -157,6 +146,7 @@ class StateTransfer:
         self._projected = ngs.GridFunction(space)
         self._clamped_on: ngs.Mesh | None = None
         self._clamped_points = (np.empty((0, 2)), np.empty((0, 2)))
+        self._old: PointLocator | None = None
 
     def interpolate_p2(self, target: ngs.GridFunction, at_vertices: np.ndarray,
                        at_mid: np.ndarray) -> None:
@@ -183,22 +173,23 @@ class StateTransfer:
 
     def apply(self, old: ngs.GridFunction, new: ngs.GridFunction) -> None:
         """(u, p) of ``old`` (on the old mesh) onto ``new`` (on this transfer's mesh)."""
-        old_mesh = old.space.mesh
-        vertices, mid = self._clamped(old_mesh)
+        vertices, mid = self._clamped(old.space.mesh)
+        assert self._old is not None
         u_old, p_old = old.components
-        self.interpolate_p2(new.components[0], _evaluate(u_old, old_mesh, vertices),
-                            _evaluate(u_old, old_mesh, mid))
-        new.components[1].vec.FV().NumPy()[: len(vertices)] = _evaluate(
-            p_old, old_mesh, vertices)[:, 0]
+        self.interpolate_p2(new.components[0], self._old.values(u_old, vertices),
+                            self._old.values(u_old, mid))
+        new.components[1].vec.FV().NumPy()[: len(vertices)] = self._old.values(
+            p_old, vertices)[:, 0]
         self.project_divergence_free(new)
 
     def _clamped(self, old_mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-        """This mesh's vertices and edge midpoints clamped into ``old_mesh``, computed once
-        per old mesh (both carried states live on it)."""
+        """This mesh's vertices and edge midpoints clamped into ``old_mesh``, and the old
+        mesh's point location, made once per old mesh (both carried states live on it)."""
         if self._clamped_on is not old_mesh:
-            old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
-            self._clamped_points = (clamp_inside(old_mesh, self.mesh.ngmesh.Coordinates()),
-                                    clamp_inside(old_mesh, self.mid))
+            self._old = PointLocator(old_mesh)
+            self._clamped_points = (
+                clamp_inside(old_mesh, self.mesh.ngmesh.Coordinates(), self._old),
+                clamp_inside(old_mesh, self.mid, self._old))
             self._clamped_on = old_mesh
         return self._clamped_points
 
@@ -240,9 +231,9 @@ def transfer_cells(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
         mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1]
     centroid = corners.mean(axis=1, keepdims=True)
     points = np.concatenate([centroid, 0.5 * (centroid + corners)], axis=1).reshape(-1, 2)
-    old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
-    inside = clamp_inside(old_mesh, points)
-    values = np.asarray(old(locate(old_mesh, inside)), dtype=float).reshape(-1, 4)
+    locator = PointLocator(old_mesh)
+    inside = clamp_inside(old_mesh, points, locator)
+    values = locator.values(old, inside).reshape(-1, 4)
     new.vec.FV().NumPy()[:] = values.mean(axis=1)
 
 
@@ -250,7 +241,6 @@ def transfer_vertices(old: ngs.GridFunction, new: ngs.GridFunction) -> None:
     """A continuous P1 field (a nonlocal law's fluidity) onto the new mesh: its values at
     the new vertices, each found in the old mesh (clamped into it)."""
     mesh, old_mesh = new.space.mesh, old.space.mesh
-    old_mesh.ngmesh.Update()  # the point-search tree must follow the moved vertices
-    inside = clamp_inside(old_mesh, mesh.ngmesh.Coordinates())
-    new.vec.FV().NumPy()[: mesh.nv] = np.asarray(old(locate(old_mesh, inside)),
-                                                 dtype=float).reshape(-1)
+    locator = PointLocator(old_mesh)
+    inside = clamp_inside(old_mesh, mesh.ngmesh.Coordinates(), locator)
+    new.vec.FV().NumPy()[: mesh.nv] = locator.values(old, inside).reshape(-1)

@@ -92,8 +92,9 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
 
     time: a fixed ``time.dt`` is halved per level; adaptive steps (error per step ~ dt^(q+1)
     for a scheme of order q) divide ``time.error_tol`` by 2^(q+1) and ``time.dt_max`` by 2
-    per level, so the steps halve (``time.dt_init`` is capped at the new ``dt_max``); the
-    paper's ramp halves ``time.dt_max`` and ``time.dt_init``.
+    per level, so the steps halve (``time.dt_init`` is capped at the new ``dt_max``, and a
+    slow flow's ``time.dt_max_slow`` halves with it); the paper's ramp halves
+    ``time.dt_max`` and ``time.dt_init``.
     space: what the problem kind refines (``KindRules.refine_space``): a column halves
     ``mesh.size`` (or doubles ``mesh.cells_across`` where it sets the resolution) and doubles
     an erodible layer's ``mesh.layer_cells``; a periodic layer halves ``mesh.size`` (and
@@ -131,6 +132,8 @@ def level_overrides(config: Config, mode: str, level: int) -> dict[str, Any]:
             out["time.error_tol"] = t.error_tol / factor ** (time_order(config) + 1)
             out["time.dt_max"] = t.dt_max / factor
             out["time.dt_init"] = min(t.dt_init, out["time.dt_max"])
+            if t.dt_max_slow is not None:    # the slow flow's cap halves too
+                out["time.dt_max_slow"] = t.dt_max_slow / factor
         else:
             out["time.dt_max"] = t.dt_max / factor
             out["time.dt_init"] = t.dt_init / factor

@@ -194,6 +194,7 @@ class RunRecord(Outputs):
             "final_profiles_t": self.final,   # profiles/*_final.csv: the last accepted state
             "skipped_remeshes": result.skipped_remeshes,
             "history_restarts": result.history_restarts,   # surface tension on/off
+            "remeshed_moves": result.remeshed_moves,   # folds foreseen, remeshed before
             "nonlinear_iterations": result.nonlinear_iterations,
             "linear_solves": result.linear_solves,
             "wall_time_s": result.wall_time_s,

@@ -157,13 +157,14 @@ def inert_keys(c: Config) -> dict[str, str]:
             "(geometry.erodible_thickness = 0 or geometry.kind = 'periodic-layer')")
     if t.dt is not None:
         add("time.dt_init time.dt_max time.dt_growth time.error_tol time.error_floor "
-            "numerics.tol_init", "time.dt sets a fixed step")
+            "time.dt_max_slow time.slow_courant numerics.tol_init", "time.dt sets a fixed step")
         if t.adaptive:   # (adaptive = false with a fixed dt says the same thing twice: fine)
             add("time.adaptive", "time.dt sets a fixed step; unset it for adaptive steps")
     elif t.adaptive:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
     else:
-        add("time.error_tol time.error_floor", "time.adaptive = false")
+        add("time.error_tol time.error_floor time.dt_max_slow time.slow_courant",
+            "time.adaptive = false")
     if c.numerics.method == "regularized":
         add("numerics.al_r", "numerics.method = 'regularized'")
     else:

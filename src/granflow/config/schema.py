@@ -337,6 +337,9 @@ class Time(_Section):
     # local velocity error per step / RMS speed
     error_floor: Annotated[float, Field(ge=floor("time.error_floor"), le=1e3)]  # adaptive:
     # m/s, RMS speed floor
+    dt_max_slow: Step | None  # adaptive: the largest step while the flow is slow
+    slow_courant: Annotated[float, Field(ge=0, le=100)]  # slow: a step carries the flow's
+    # RMS speed at most this many mesh.size
     stop_at_rest: bool  # end the run once the mass has come to rest
     rest_fraction: Annotated[float, Field(ge=0, lt=1)]  # flowing area at rest, at most
     rest_duration: Annotated[float, Field(ge=0, le=1e4)]  # s at rest before the run ends

@@ -33,8 +33,8 @@ import shapely
 
 from granflow.config import Config
 from granflow.diagnostics.state import FLOWING_SPEED
+from granflow.fem.locator import PointLocator
 from granflow.fem.measure import coordinates_of
-from granflow.fem.sampling import values_at
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.scenarios.column_discretisation import ColumnDiscretisation
 from granflow.scenarios.column_setup import ColumnSetup
@@ -58,6 +58,7 @@ MATERIAL: Share = {      # geometry/layer_material.py: LayerMaterial.save_state
     "heights": may_lack(array("markers")), "outline": may_lack(array(None, 2, rows=3))}
 
 Table = tuple[list[str], np.ndarray]
+WINDOW = 0.05   # m: how far behind the last column front its new one is looked for first
 COLUMNS = ("layer_mobilised_area", "layer_displaced_area", "erosion_front_x",
            "column_front_x", "erosion_depth_max", "layer_area_drift")
 
@@ -89,6 +90,9 @@ class LayerTracking(Outputs):
     line_velocity: np.ndarray = field(init=False)
     marker_velocity: np.ndarray = field(init=False)
     _rates: tuple[np.ndarray, np.ndarray] | None = field(init=False, default=None)
+    _locator: PointLocator | None = field(init=False, default=None)   # of the current mesh
+    _triangles: dict[str, np.ndarray] = field(init=False, default_factory=dict)  # last found
+    _last_front: float = field(init=False, default=float("nan"))   # column_front_x
     threshold: float = field(init=False)    # what counts as displaced (m)
     largest_drift: float = 0.0
     largest_mobilised: float = 0.0
@@ -120,19 +124,40 @@ class LayerTracking(Outputs):
         if extrapolate:
             rate = (u - solver.before_previous.components[0]) / solver.dt_previous
             u = ngs.CF((u, rate))
-        line = self._values(u, self.material.line)
-        markers = self._values(u, self.material.markers)
+        line = self._values(u, self.material.line, "line")
+        markers = self._values(u, self.material.markers, "markers")
         self.line_velocity, self.marker_velocity = line[:, :2], markers[:, :2]
         self._rates = (line[:, 2:], markers[:, 2:]) if extrapolate else None
 
-    def _values(self, u: ngs.CoefficientFunction, points: np.ndarray) -> np.ndarray:
+    def _values(self, u: ngs.CoefficientFunction, points: np.ndarray, name: str
+                ) -> np.ndarray:
         """``u`` at the points; 0 beyond the meshed layer's end (``mesh.layer_ahead``),
-        where the layer is at rest."""
+        where the layer is at rest. Each point's search starts from the triangle it was
+        found in at the last step (the points called ``name``; the line's points keep
+        their order along it while a few are inserted or dropped each step, so the i-th
+        of n starts from the triangle of the same fraction of the last step's)."""
         out = np.zeros((len(points), u.dim))
         meshed = points[:, 0] <= self.current.mover.end_x
+        locator = self.locator()
+        guess = self._triangles.get(name)
+        if guess is not None and len(guess) != len(points) and len(guess):
+            guess = guess[np.round(np.linspace(0, len(guess) - 1, len(points))).astype(int)]
+        found = np.full(len(points), -1, dtype=np.int64)
         if meshed.any():
-            out[meshed] = values_at(self.current.mesh, u, points[meshed])
+            at = points[meshed]
+            element, lam = locator.locate(at, None if guess is None else guess[meshed])
+            out[meshed] = locator.evaluate(u, at, element, lam)
+            found[meshed] = element
+        self._triangles[name] = found
         return out
+
+    def locator(self) -> PointLocator:
+        """The point location of the current mesh (built again after a remesh, which
+        also forgets the triangles the points were found in)."""
+        if self._locator is None or self._locator.mesh is not self.current.mesh:
+            self._locator = PointLocator(self.current.mesh)
+            self._triangles = {}
+        return self._locator
 
     def unmeshed(self) -> shapely.Geometry:
         """The layer at rest beyond the meshed layer's end (``mesh.layer_ahead``)."""
@@ -154,11 +179,12 @@ class LayerTracking(Outputs):
 
     # --- what the outputs read ---------------------------------------------------------
     def domain(self) -> shapely.Geometry:
-        """The material's domain: the mesh's, and the layer at rest beyond its end."""
+        """The material's domain: the mesh's (its boundary loop, in order), and the layer
+        at rest beyond its end."""
         xy = self.current.mesh.ngmesh.Coordinates()
-        edges = shapely.linestrings(xy[self.current.mover.chain.segments])
-        meshed = shapely.union_all(shapely.get_parts(shapely.polygonize(edges)))
-        return shapely.union(meshed, self.unmeshed())
+        meshed = shapely.Polygon(xy[self.locator().loop])
+        unmeshed = self.unmeshed()
+        return meshed if unmeshed.is_empty else shapely.union(meshed, unmeshed)
 
     def measures(self) -> dict[str, float]:
         """This step's entrainment measures (module docstring)."""
@@ -170,7 +196,9 @@ class LayerTracking(Outputs):
             domain, region = self.domain(), mat.region()
             inside = self.size(shapely.intersection(region, domain))
             drift = inside / self.size(mat.initial_shape()) - 1.0
-            column_front = _column_front(domain, region, 0.1 * mat.thickness)
+            column_front = _column_front(domain, region, 0.1 * mat.thickness,
+                                         self._last_front)
+            self._last_front = column_front
             self.largest_drift = max(self.largest_drift, abs(drift))
         except shapely.errors.GEOSException:    # a degenerate fold: not measured this step
             drift = column_front = float("nan")
@@ -260,9 +288,24 @@ class LayerTracking(Outputs):
         self.sample()
 
 
-def _column_front(domain: shapely.Geometry, region: shapely.Geometry, thin: float) -> float:
+def _column_front(domain: shapely.Geometry, region: shapely.Geometry, thin: float,
+                  near: float = float("nan")) -> float:
     """Rightmost column material: the domain less the layer region, without the films
     thinner than ``thin`` where the tracked line and the mesh's free surface (which the
-    ALE moves to first order, and the area fix shifts) do not quite coincide."""
-    column = shapely.difference(domain, region).buffer(-0.5 * thin)
-    return float(column.bounds[2] + 0.5 * thin) if not column.is_empty else float("nan")
+    ALE moves to first order, and the area fix shifts) do not quite coincide.
+
+    Measured in a window x >= x0 only, from ``near`` (the last step's answer) less
+    WINDOW, widened until it holds column material: the films are removed by an inward
+    offset of 0.5 thin, and the offset of the part beyond x0 is the whole offset's part
+    beyond x0 + 0.5 thin, so its rightmost point is the same once it is not empty."""
+    left, bottom, right, top = domain.bounds
+    width = WINDOW
+    start = near - WINDOW if np.isfinite(near) else right - WINDOW
+    while True:
+        x0 = max(min(start, right - width), left - thin)
+        box = shapely.box(x0, bottom - thin, right + thin, top + thin)
+        column = shapely.difference(shapely.clip_by_rect(domain, *box.bounds),
+                                    region).buffer(-0.5 * thin)
+        if not column.is_empty or x0 <= left - thin:
+            return float(column.bounds[2] + 0.5 * thin) if not column.is_empty else float("nan")
+        width, start = 4 * width, x0 - 3 * width

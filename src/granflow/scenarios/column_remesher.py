@@ -134,7 +134,8 @@ class ColumnRemesher:
             sizes = remesh_sizes(setup, self.size_field)
         remeshed = remesh(old.mesh, setup.config.mesh.size, measure=old.mover.measure,
                           layer_end=end, layer_top=setup.config.geometry.erodible_thickness,
-                          stretch=self.stretch, bed=old.mover.support.bed, **sizes)
+                          stretch=self.stretch, bed=old.mover.support.bed,
+                          cut=old.mover.fold_pocket, **sizes)
         new = discretise(setup, remeshed.mesh,
                          self.layer.material if self.layer is not None else None)
         added = remeshed.area_added

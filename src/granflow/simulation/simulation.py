@@ -148,6 +148,7 @@ class Simulation:
     momentum_solves: int = 0
     skipped_remeshes: int = 0
     history_restarts: int = 0            # steps begun afresh after a jump of the forcing
+    remeshed_moves: int = 0              # moves that would tangle, remeshed before the step
     remeshed_this_step: bool = False
     rejections: dict[str, int] = field(default_factory=dict)
     interrupt: str | None = None         # set (by a signal handler) to end the run cleanly
@@ -158,6 +159,7 @@ class Simulation:
         "t": TIME, "step": COUNT, "dt": TIME, "rejected_steps": COUNT,
         "nonlinear_iterations": COUNT, "momentum_solves": COUNT,
         "skipped_remeshes": may_lack(COUNT), "history_restarts": may_lack(COUNT),
+        "remeshed_moves": may_lack(COUNT),
         "rejections": mapping(COUNT), "wall_time_s": TIME,
         "steps_policy": or_none(dataclass_of(AdaptiveStep, RampedStep)),
         "stop_criteria": list_of(or_none(record(RestCriterion.share))),
@@ -186,6 +188,7 @@ class Simulation:
             "momentum_solves": self.momentum_solves,
             "skipped_remeshes": self.skipped_remeshes,
             "history_restarts": self.history_restarts,
+            "remeshed_moves": self.remeshed_moves,
             "rejections": dict(self.rejections),
             "wall_time_s": self.wall_time(),
             "steps_policy": copy.deepcopy(self.steps_policy),
@@ -201,6 +204,7 @@ class Simulation:
         self.rejections = dict(state["rejections"])
         self.skipped_remeshes = int(state.get("skipped_remeshes", 0))
         self.history_restarts = int(state.get("history_restarts", 0))
+        self.remeshed_moves = int(state.get("remeshed_moves", 0))
         self.elapsed_before = state["wall_time_s"]
         if state["steps_policy"] is not None:   # None: keep the policy of a changed config
             self.steps_policy = state["steps_policy"]
@@ -220,6 +224,7 @@ class Simulation:
     def _attempt(self, dt: float, tol: float) -> _Attempt:
         """One try at a step of size dt (shortened by the mesh motion if it must)."""
         motion = self.mesh_motion
+        proposed = dt
         if motion is not None:
             dt = motion.prepare(dt)
         attempt = _Attempt(dt)
@@ -227,6 +232,12 @@ class Simulation:
         if motion is not None:
             motion.move(dt)
             attempt.move_failure = motion.check()
+            if self._remeshed_ahead(attempt.move_failure):   # the step, on the new mesh
+                motion = self.mesh_motion
+                assert motion is not None
+                dt = attempt.dt = self.attempted_dt = motion.prepare(proposed)
+                motion.move(dt)
+                attempt.move_failure = motion.check()
             if attempt.move_failure is not None:
                 attempt.rejection = Rejection.MOVE
                 attempt.detail = attempt.move_failure.value
@@ -250,6 +261,24 @@ class Simulation:
             if not self.steps_policy.judge(attempt.estimate):
                 attempt.rejection = Rejection.ERROR
         return attempt
+
+    def _remeshed_ahead(self, failure: MoveFailure | None) -> bool:
+        """A move that would tangle the mesh (a fold, an inverted cell) is undone before
+        any solve and answered by a remesh, after which the step is taken on the new mesh
+        (``remeshed_moves``): a foreseen fold, not a rejected step. False when there is
+        nothing to cure, no remesher, or this step has remeshed already."""
+        if (failure is None or not failure.remeshable or self.remesher is None
+                or self.remeshed_this_step or self.mesh_motion is None):
+            return False
+        self.mesh_motion.undo()
+        self.remeshed_this_step = True
+        try:
+            self.remesher.remesh()
+        except Exception as exc:  # (the mesher's own errors too) then a smaller step
+            self._remesh_error = f"; remeshing failed: {exc}"
+            return False
+        self.remeshed_moves += 1
+        return True
 
     def _undo(self) -> None:
         if self.mesh_motion is not None:
@@ -328,6 +357,7 @@ class Simulation:
                     f"{self.interrupt} at t = {self.t:.6g} s after step {self.step}")
                 break
             dt, tol = self.steps_policy.propose(self.t)
+            dt = min(dt, self.t_end - self.t)   # a policy restored from a run with another end
             self.attempted_dt = dt
             try:
                 attempt = self._attempt(dt, tol)
@@ -359,7 +389,8 @@ class Simulation:
             rejected_steps=self.rejected_steps,
             nonlinear_iterations=self.nonlinear_iterations,
             linear_solves=self.linear_solves, wall_time_s=wall, rejections=dict(self.rejections),
-            skipped_remeshes=self.skipped_remeshes, history_restarts=self.history_restarts)
+            skipped_remeshes=self.skipped_remeshes, history_restarts=self.history_restarts,
+            remeshed_moves=self.remeshed_moves)
 
     def _accept(self, attempt: _Attempt) -> None:
         self._rejections_in_row = 0

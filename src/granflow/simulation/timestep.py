@@ -127,6 +127,10 @@ class AdaptiveStep:
     [MIN_SHRINK, MAX_GROWTH] times the last step and within [dt_min, dt_max]. A step whose
     nonlinear solve failed is retried at half its size. Steps shortened by a stop or a
     landing do not shrink the controller's dt unless their error asks for it.
+
+    With ``dt_max_slow`` above dt_max, the cap rises while the flow is slow: to the step
+    in which the flow's RMS speed (of the last accepted step) carries it ``slow_travel``
+    (m), between dt_max and dt_max_slow. A fast flow keeps dt_max.
     """
 
     t_end: Positive
@@ -139,11 +143,24 @@ class AdaptiveStep:
     dt_min: Positive = DT_FLOOR
     step_key: str = "time.error_tol or time.dt_max"
     order: Annotated[int, whole(1)] = 1      # of the time scheme
+    dt_max_slow: Annotated[float, TIME] = 0.0   # s: the cap of a slow flow (at most dt_max: off)
+    slow_travel: Annotated[float, TIME] = 0.0   # m: a step that carries the flow this far is slow
     dt: Positive = field(init=False)
+    cap: Annotated[float, TIME] = field(init=False, default=0.0)  # the largest step now (0: dt_max)
 
     def __post_init__(self) -> None:
         self.dt = min(self.dt_init, self.dt_max)
         self.stops = _stops(self.stops, self.t_end)
+        self.cap = self.dt_max
+
+    def _cap(self, estimate: LocalError | None) -> float:
+        """dt_max, or while the flow is slow a larger cap (class docstring)."""
+        if self.dt_max_slow <= self.dt_max:
+            return self.dt_max
+        if estimate is None:
+            return self.cap if self.cap > 0 else self.dt_max
+        reach = self.slow_travel / estimate.speed if estimate.speed > 0 else math.inf
+        return min(self.dt_max_slow, max(self.dt_max, reach))
 
     @property
     def next_dt(self) -> float:
@@ -182,7 +199,8 @@ class AdaptiveStep:
         if full or factor < 1.0:
             proposed = dt * factor
             self.dt = proposed if full else min(self.dt, proposed)
-        self.dt = min(max(self.dt, self.dt_min), self.dt_max)
+        self.cap = self._cap(estimate)
+        self.dt = min(max(self.dt, self.dt_min), self.cap)
 
     def rejected(self, dt: float, estimate: LocalError | None = None) -> None:
         """estimate None: the nonlinear solve failed; else the step's error was too large."""
@@ -218,6 +236,8 @@ def step_policy(config: Config) -> StepPolicy:
     if tm.adaptive:
         return AdaptiveStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, tol=num.tol,
                             error_tol=tm.error_tol, error_floor=tm.error_floor, stops=stops,
-                            order=2 if tm.scheme == "bdf2" else 1)
+                            order=2 if tm.scheme == "bdf2" else 1,
+                            dt_max_slow=tm.dt_max_slow or 0.0,
+                            slow_travel=tm.slow_courant * config.mesh.size)
     return RampedStep(t_end=tm.t_end, dt_init=tm.dt_init, dt_max=tm.dt_max, growth=tm.dt_growth,
                       tol=num.tol, tol_init=num.tol_start, stops=stops)
