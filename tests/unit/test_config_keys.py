@@ -52,6 +52,7 @@ ALTERNATIVE = {
     "mesh.layer_ahead": 0.1,
     "layer.grain_diameter": 1e-8, "material.grain_diameter": 1e-8,   # any creep is "displaced"
     "material.initial_mobilisation": 0.5, "layer.friction": '"hysteretic"',
+    "layer.packing": '"critical-state"', "material.packing_slope": 0.2,
     "numerics.anderson_depth": 0,   # a few steps never fill a history deeper than three
     "material.fluidity_time": 0.01,   # its only other literal is the current "inertial"
     "initial.fluidity": 0.5,
