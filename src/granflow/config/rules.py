@@ -162,6 +162,9 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("time.adaptive", "time.dt sets a fixed step; unset it for adaptive steps")
     elif t.adaptive:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
+        if t.dt_max_slow is None or t.dt_max_slow <= t.dt_max:
+            add("time.slow_courant", "time.dt_max_slow is unset or at most time.dt_max: "
+                "the step's cap stays time.dt_max")
     else:
         add("time.error_tol time.error_floor time.dt_max_slow time.slow_courant",
             "time.adaptive = false")
