@@ -7,7 +7,7 @@ from granflow.config import load_config
 from granflow.fem.mpi import world_rank, world_size
 from granflow.scenarios.plug_flow_3d import build_plug_flow_3d
 
-OVERRIDES = ["time.dt=0.025", "mesh.size=0.25", "geometry.length=0.5",
+OVERRIDES = ["geometry.dimension=3", "time.dt=0.025", "mesh.size=0.25", "geometry.length=0.5",
              "time.output_times=[]", "time.t_end=0.05"]
 
 

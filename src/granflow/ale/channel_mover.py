@@ -20,23 +20,11 @@ from netgen.meshing import Mesh as NgMesh
 
 from granflow.ale.mesh_motion import ElasticMeshVelocity, move_mesh, vertex_values
 from granflow.geometry.labels import BED, SIDE, SURFACE, SYMMETRY, WALL
+from granflow.geometry.mesh3d import signed_volumes, tetrahedra
 from granflow.simulation.outcomes import MoveFailure
 
 ON_PLANE = 1e-9   # m: a vertex this close to a bounding plane is on it
-
-
-def tetrahedra(mesh: ngs.Mesh) -> np.ndarray:
-    """(ne, 4) zero-based vertex indices of the tetrahedra."""
-    return mesh.ngmesh.Elements3D().NumPy()["nodes"][:, :4].astype(np.int64) - 1
-
-
-def signed_volumes(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray:
-    """Signed volumes of the tetrahedra (positive = not inverted: Netgen numbers a
-    tetrahedron's vertices so that (b - a) x (c - a) . (d - a) < 0)."""
-    xyz = mesh.ngmesh.Coordinates() if coords is None else coords
-    tet = tetrahedra(mesh)
-    a, b, c, d = (xyz[tet[:, k]] for k in range(4))
-    return -np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
+__all__ = ["signed_volumes", "tetrahedra"]
 
 
 def surface_triangles(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:

@@ -11,6 +11,7 @@ symmetry plane (label ``symmetry``).
 from __future__ import annotations
 
 import ngsolve as ngs
+import numpy as np
 from netgen.occ import Face, OCCGeometry, Pnt, Segment, Vec, Wire
 from ngsolve.meshes import MakeStructured3DMesh
 
@@ -81,3 +82,17 @@ def _edge_of(polygon: Polygon, x: float, z: float) -> int:
         if d < best:
             best, index = d, i
     return index
+
+
+def tetrahedra(mesh: ngs.Mesh) -> np.ndarray:
+    """(ne, 4) zero-based vertex indices of the tetrahedra."""
+    return mesh.ngmesh.Elements3D().NumPy()["nodes"][:, :4].astype(np.int64) - 1
+
+
+def signed_volumes(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray:
+    """Signed volumes of the tetrahedra (positive = not inverted: Netgen numbers a
+    tetrahedron's vertices so that (b - a) x (c - a) . (d - a) < 0)."""
+    xyz = mesh.ngmesh.Coordinates() if coords is None else coords
+    tet = tetrahedra(mesh)
+    a, b, c, d = (xyz[tet[:, k]] for k in range(4))
+    return -np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
