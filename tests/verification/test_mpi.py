@@ -1,6 +1,6 @@
 """Rung 11: one and two MPI ranks agree. The 3D layer of the plug flow (two coarse steps)
-run by ``mpiexec -n 2`` (rank 0 meshes, NGSolve distributes the mesh, the direct solver
-gathers on rank 0) against the same run in this process, to the nonlinear tolerance.
+run by ``mpiexec -n 2`` (NGSolve distributes a copy of rank 0's mesh for the flow's solve,
+the direct solver gathers on rank 0) against the same run in this process, to the nonlinear tolerance.
 
 Needs the MPI extra (``pip install -e ".[mpi]"``: mpi4py and MPICH from the package index);
 skipped without it, except in CI, which installs it."""

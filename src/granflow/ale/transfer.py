@@ -138,7 +138,7 @@ class StateTransfer:
                                    for e in range(len(self.ends))])
         bubble = ngs.GridFunction(scalar)
         bubble.vec.FV().NumPy()[self.edge_dofs] = 1.0
-        self.bubble_mid = np.array([bubble(mesh(float(x), float(y))) for x, y in self.mid])
+        self.bubble_mid = self._values(bubble, mesh, self.mid)[:, 0]
         # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0, with
         # the measure and divergence of the coordinates (r-weighted in axisymmetry)
         (u, lam), (v, q) = space.TnT()
@@ -186,11 +186,17 @@ class StateTransfer:
         old_mesh = old.space.mesh
         vertices, mid = self._clamped(old_mesh)
         u_old, p_old = old.components
-        self.interpolate_p2(new.components[0], _evaluate(u_old, old_mesh, vertices),
-                            _evaluate(u_old, old_mesh, mid))
-        new.components[1].vec.FV().NumPy()[: len(vertices)] = _evaluate(
+        self.interpolate_p2(new.components[0], self._values(u_old, old_mesh, vertices),
+                            self._values(u_old, old_mesh, mid))
+        new.components[1].vec.FV().NumPy()[: len(vertices)] = self._values(
             p_old, old_mesh, vertices)[:, 0]
         self.project_divergence_free(new)
+
+    @staticmethod
+    def _values(field: ngs.CoefficientFunction, mesh: ngs.Mesh,
+                points: np.ndarray) -> np.ndarray:
+        """``field`` at points inside ``mesh`` (the section's: ``_evaluate``)."""
+        return _evaluate(field, mesh, points)
 
     def _clamped(self, old_mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
         """This mesh's vertices and edge midpoints clamped into ``old_mesh``, computed once

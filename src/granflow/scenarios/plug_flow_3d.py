@@ -2,21 +2,16 @@
 slope (X) and across it (Y), the rough bed at Z = 0 and the free surface at Z = height
 (paper section 4). The flow is the 2D layer's, uniform in X and Y: its velocity against
 the 1D solver of (4.1) is the first verification of the 3D discretisation. Under
-``mpiexec -n N`` rank 0 meshes and NGSolve distributes the mesh (``fem/mpi.py``); the
-Taylor-Hood system is then gathered and factorised on rank 0."""
+``mpiexec -n N`` its solve is distributed over the ranks (``fem/distributed_flow.py``)."""
 
 from __future__ import annotations
-
-from dataclasses import replace
 
 import ngsolve as ngs
 import numpy as np
 
 from granflow.config import Config
-from granflow.fem.flow_factory import build_flow
-from granflow.fem.linalg import MASTER_INVERSE, distributed
+from granflow.fem.distributed_flow import flow_solver
 from granflow.fem.measure import SPACE
-from granflow.fem.mpi import distribute
 from granflow.geometry.labels import BED
 from granflow.geometry.mesh3d import periodic_box_mesh
 from granflow.scenarios.flow_config import Layout, flow_spec
@@ -54,13 +49,10 @@ def build_plug_flow_3d(config: Config) -> PlugFlow3D:
     U0 = (alpha1 [Z - b0]_+, 0, 0) with hydrostatic pressure, the loop and its outputs.
     What a 3D layer may run is checked with the configuration (``three_d_rules``)."""
     geo, mat = config.geometry, config.material
-    mesh = distribute(lambda: periodic_box_mesh(geo.length, geo.length, geo.height,
-                                                config.mesh.size))
+    mesh = periodic_box_mesh(geo.length, geo.length, geo.height, config.mesh.size)
     spec = flow_spec(config, run_materials(config),
                      Layout(SPACE, periodic=True, dirichlet=BED, rough=BED))
-    if distributed(mesh):        # the system gathered and factorised on rank 0
-        spec = replace(spec, solver=replace(spec.solver, linear_solver=MASTER_INVERSE))
-    solver = build_flow(mesh, spec)
+    solver = flow_solver(mesh, spec)          # its solve distributed under mpiexec
     force = spec.terms.body_force
     z = SPACE.bed_normal
     alpha, base = config.initial.shear_rate, config.initial.plug_base
