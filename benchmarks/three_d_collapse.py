@@ -1,0 +1,135 @@
+"""Benchmark: the 3D rectangle collapse in a channel, run by ``granflow run`` as a user runs
+it: its processor time to rest and its profile, on one process or under ``mpiexec``, and the
+column between frictionless walls against the 2D plane-strain run.
+
+Run: python benchmarks/three_d_collapse.py rest [--size 0.04] [--ranks 1]
+     python benchmarks/three_d_collapse.py plane-strain [--size 0.03] [--t-end 0.2]
+         [--out benchmarks/results/three_d_collapse]
+
+``rest``: the rectangle-rigid scenario (l0 = 20 cm, h0 = 14 cm, Drucker-Prager 25.5 deg,
+the bed 25.5 deg, the back and side walls 10.2 deg) with ``geometry.dimension = 3`` in half
+a 10 cm channel at mesh.size, run to rest. On one process the run is profiled (cProfile,
+the 20 functions of largest own time); with ``--ranks N`` it is ``mpiexec -n N granflow
+run`` and the processor time is that of all ranks (the waited-for children). Writes the
+summary's figures, processor seconds, peak memory and the profile.
+
+``plane-strain``: the same rectangle in 2D and in 3D between two frictionless planes one
+mesh.size apart (``boundary.channel_width = none``), both to t_end with outputs at t_end/2
+and t_end: the runouts and the largest vertical gap of the centre-line surfaces.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import json
+import pstats
+import resource
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from granflow.app.api import Run, run
+
+CHANNEL = ["geometry.dimension=3", "boundary.channel_width=0.1"]
+
+
+def _cpu(who: int) -> tuple[float, float]:
+    """Processor seconds (user + system) and peak memory (MB) of ``who``."""
+    r = resource.getrusage(who)
+    return r.ru_utime + r.ru_stime, r.ru_maxrss / 1024.0
+
+
+def rest(size: float, ranks: int, out: Path) -> dict[str, Any]:
+    sets = [*CHANNEL, f"mesh.size={size!r}"]
+    folder = out / f"run_h{size:g}_n{ranks}"
+    if ranks == 1:
+        profiler = cProfile.Profile()
+        cpu0, _ = _cpu(resource.RUSAGE_SELF)
+        profiler.enable()
+        result = run("rectangle-rigid", sets, out=folder, force=True, progress=False)
+        profiler.disable()
+        cpu1, peak = _cpu(resource.RUSAGE_SELF)
+        stats = pstats.Stats(profiler).sort_stats("tottime")
+        top = [{"function": f"{Path(f).name}:{line}({name})", "calls": nc, "own_s": tt,
+                "cumulative_s": ct}
+               for (f, line, name), (_, nc, tt, ct, _) in list(stats.stats.items())]
+        top = sorted(top, key=lambda row: -row["own_s"])[:20]
+    else:
+        granflow = Path(sys.executable).parent / "granflow"
+        cpu0, _ = _cpu(resource.RUSAGE_CHILDREN)
+        args = [str(Path(sys.executable).parent / "mpiexec"), "-n", str(ranks),
+                str(granflow), "run", "rectangle-rigid", "--out", str(folder), "--force",
+                "--quiet", *(a for s in sets for a in ("--set", s))]
+        subprocess.run(args, check=True)
+        cpu1, peak = _cpu(resource.RUSAGE_CHILDREN)
+        result, top = Run(folder), []
+    s = result.summary
+    figures = {key: getattr(s, key, None) for key in (
+        "status", "message", "steps", "rejected_steps", "nonlinear_iterations", "n_dofs",
+        "runout_m", "stop_time_s", "volume_relative_error")}
+    raw = json.loads((folder / "summary.json").read_text())
+    figures |= {key: raw.get(key) for key in ("runout_wall_m", "runout_centre_m",
+                                              "wall_height_m", "remeshes",
+                                              "min_tetrahedron_quality")}
+    return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "peak_mb": peak,
+            **figures, "profile": top}
+
+
+def _gap(a: Run, b: Run, t: float) -> float:
+    p, q = a.profile("free_surface", t), b.profile("free_surface", t)
+    x = np.linspace(0.0, min(p["x"].max(), q["x"].max()), 400)
+    zp = np.interp(x, *(p.sort_values("x")[k].to_numpy() for k in ("x", "z")))
+    zq = np.interp(x, *(q.sort_values("x")[k].to_numpy() for k in ("x", "z")))
+    return float(np.abs(zp - zq).max())
+
+
+def plane_strain(size: float, t_end: float, out: Path) -> dict[str, Any]:
+    times = [t_end / 2, t_end]
+    sets = [f"mesh.size={size!r}", f"time.t_end={t_end!r}", f"time.output_times={times}",
+            "time.stop_at_rest=false"]
+    plane = run("rectangle-rigid", sets, out=out / f"plane_h{size:g}", force=True,
+                progress=False)
+    slab = run("rectangle-rigid", [*sets, "geometry.dimension=3",
+                                   "boundary.channel_width=none"],
+               out=out / f"slab_h{size:g}", force=True, progress=False)
+    return {"size": size, "t_end": t_end, "runout_2d_m": plane.summary.runout_m,
+            "runout_3d_m": slab.summary.runout_m,
+            "runout_relative": slab.summary.runout_m / plane.summary.runout_m - 1.0,
+            "surface_gap_m": {f"{t:g}": _gap(plane, slab, t) for t in times}}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("case", choices=("rest", "plane-strain"))
+    parser.add_argument("--size", type=float, default=None)
+    parser.add_argument("--ranks", type=int, default=1)
+    parser.add_argument("--t-end", type=float, default=0.2)
+    parser.add_argument("--out", type=Path,
+                        default=Path("benchmarks/results/three_d_collapse"))
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs = args.out / "runs"
+    if args.case == "rest":
+        size = args.size or 0.04
+        data = rest(size, args.ranks, runs)
+        name = f"rest_h{size:g}_n{args.ranks}.json"
+        print(f"{data['status']}: stop {data['stop_time_s']} s, runout {data['runout_m']:.4f}"
+              f" m, {data['steps']} steps, {data['cpu_s']:.0f} s CPU, "
+              f"{data['peak_mb']:.0f} MB")
+    else:
+        size = args.size or 0.03
+        data = plane_strain(size, args.t_end, runs)
+        name = f"plane_strain_h{size:g}.json"
+        print(f"runout 2D {data['runout_2d_m']:.4f} m, 3D {data['runout_3d_m']:.4f} m "
+              f"({100 * data['runout_relative']:+.2f} %), surface gaps "
+              f"{data['surface_gap_m']} m")
+    (args.out / name).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
