@@ -38,20 +38,7 @@ CYLINDER = "aspect_ratio_cylinder/aspect_ratio.json"
 FIRST_RUNS = "collapse/paper.json"
 HYSTERESIS = "hysteresis/hysteresis.json"
 REPRODUCIBILITY = "reproducibility/reproducibility.json"
-START_3D = "three_d_collapse_start/start_h0.02.json"
-START_3D_CONSERVED = "three_d_collapse_start/start_h0.02_conserved.json"
 MAIN_VS_3D = "collapse/main-vs-three-d.json"
-
-
-def _front_moved(data: Any) -> float:
-    """How far (m) the 3D rectangle's front has moved by the last row."""
-    return data["rows"][-1]["front_x"] - data["rows"][0]["front_x"]
-
-
-def _late_step_cost(data: Any) -> float:
-    """Processor seconds per step from the seventh step on (the flow under way)."""
-    rows = data["rows"]
-    return (rows[-1]["cpu_s"] - rows[6]["cpu_s"]) / (len(rows) - 7)
 
 
 def _largest_surface_gap(data: Any) -> float:
@@ -254,13 +241,7 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _path_run("default", "refactorise_ms 26525 unknowns"), ".0f", 1),
     ("docs/performance.md", "| 3.1 / 170 | 7.8 / {} |", REPRODUCIBILITY,
      _path_run("COMPATIBLE", "refactorise_ms 26525 unknowns"), ".0f", 1),
-    # --- three dimensions (benchmarks/three_d_collapse_start.py, collapse_runs.py --compare)
-    ("docs/three_d.md", "the front has moved {} mm at t = 0.04 s", START_3D, _front_moved,
-     ".1f", 1e3),
-    ("docs/three_d.md", "the front then at {} mm,", START_3D_CONSERVED, _front_moved,
-     ".2f", 1e3),
-    ("docs/three_d.md", "about {} s a step once the flow is under way", START_3D,
-     _late_step_cost, ".0f", 1),
+    # --- three dimensions (benchmarks/three_d_collapse.py, collapse_runs.py --compare)
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
 ]
