@@ -26,6 +26,8 @@ SHORT = {
     "incline-nonlocal": ["time.t_end=0.05", "time.output_times=[0.05]"],
     "incline-to-floor": ["mesh.size=0.04", "time.t_end=0.01", "time.output_times=[0.01]"],
     "hillslope": ["mesh.size=0.08", "time.t_end=0.01", "time.output_times=[0.01]"],
+    "slab": ["geometry.erodible_thickness=0.005", "time.t_end=0.02",
+             "time.output_times=[0.02]"],
 }
 
 
@@ -63,6 +65,10 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
         with Image.open(out / "plots" / "speed.gif") as gif:   # one image per frame file
             frames = len(list((out / "frames").glob("frame_*.npz")))  # (Pillow merges repeats)
             assert 1 < gif.n_frames <= frames
+    elif scenario == "slab":       # the slab over its layer: distances, the layer's moved depth
+        assert 0.015 < summary["slab_distance_m"] == summary["runout_m"] < 0.02
+        assert 0 < summary["layer_moved_depth_m"] <= 0.005
+        assert (out / "profiles" / "slab_t0.020.csv").exists()
     elif scenario == "incline-nonlocal":    # thicker than h_stop: the steady flow is its own
         assert summary["reference"] == "steady" and summary["reference_note"] is None
     elif scenario in ("incline-to-floor", "hillslope"):     # a mass on a bed profile
@@ -80,6 +86,7 @@ def test_scenario_runs_and_writes_its_run_directory(tmp_path: Path, scenario: st
              if "erodible" in scenario else [])
     periodic = ("plug-flow", "incline-mu-i", "incline-nonlocal")
     assert finals == (["velocity_final.csv"] if scenario in periodic else
+                      ["slab_final.csv"] if scenario == "slab" else
                       sorted(["free_surface_final.csv", "interface_final.csv",
                               "velocity_sections_final.csv", *layer]))
     if scenario == "trapezoid-rigid":   # t_end is the last output time: the same state

@@ -60,6 +60,27 @@ def _at(key: str, t: str) -> Callable[[Any], float]:
     return lambda data: data[key][t]
 
 
+SLAB, SLAB_FLUIDITY = "slab/slab.json", "slab/slab_fluidity.json"
+BED_MODELS = "bed_models/bed_models.json"
+
+
+def _slab_ratio(variant: str, slope: int) -> Callable[[Any], float]:
+    """The slab's distance over the 5 mm layer over its distance on the bed alone."""
+    def ratio(data: Any) -> float:
+        return (data[f"{variant}|5mm|{slope}"]["slab_distance_m"]
+                / data[f"{variant}|0mm|{slope}"]["slab_distance_m"])
+    return ratio
+
+
+def _against_paper_model(name: str) -> Callable[[Any], float]:
+    """A level-bed run's runout against Drucker-Prager's on the Coulomb bed, |ratio - 1|."""
+    def relative(data: Any) -> float:
+        shape = name.split("-")[0]
+        reference = data["flat"][f"{shape}-drucker-prager-coulomb"]["runout_m"]
+        return abs(data["flat"][name]["runout_m"] / reference - 1)
+    return relative
+
+
 def _largest_surface_gap(data: Any) -> float:
     """The largest distance (m) between two checkouts' free surfaces, any run, any time."""
     return max(gap["max_m"] for run in data.values() for gap in run["free_surfaces"].values())
@@ -317,6 +338,60 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _at("surface_distance_behind_front_max_m", "0.2"), ".2f", 1e3),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
+    # --- the slab and the rigid bed's models (benchmarks/slab.py, benchmarks/bed_models.py)
+    ("docs/erosion.md", r"| **no-slip bed and \(\eta\) = 0.01: drucker-prager** | **{}** |",
+     SLAB, _slab_ratio("drucker-prager/no-slip+small-eta", 0), ".2f", 1),
+    ("docs/erosion.md", r"| **no-slip and \(\eta\) = 0.01: glass-beads** | **{}** |", SLAB,
+     _slab_ratio("glass-beads/no-slip+small-eta", 0), ".2f", 1),
+    ("docs/erosion.md", r"| **no-slip and \(\eta\) = 0.01: nonlocal** | **{}** |", SLAB,
+     _slab_ratio("nonlocal/no-slip+small-eta", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| drucker-prager (Coulomb bed, \(\eta\) = 1 Pa s, 2.5 mm cells) | {} |", SLAB,
+     _slab_ratio("drucker-prager", 0), ".2f", 1),
+    ("docs/model.md", "runs took {} nonlinear iterations against 3,309", SLAB_FLUIDITY,
+     "5mm-zero.nonlinear_iterations", ",d", 1),
+    ("docs/verification.md", "| rectangle | glass-beads | material | 0.687 | {} |", BED_MODELS,
+     "flat.rectangle-glass-beads-material.runout_m", ".4f", 1),
+    ("docs/verification.md", "| rectangle | nonlocal | material | 1.985 | {} |", BED_MODELS,
+     "flat.rectangle-nonlocal-material.runout_m", ".4f", 1),
+    ("docs/verification.md", "| trapezoid | nonlocal | material | moving at 3 s | {} |",
+     BED_MODELS, "flat.trapezoid-nonlocal-material.runout_m", ".4f", 1),
+    ("docs/verification.md", "(it runs out {} m)", BED_MODELS, "rest.rest-22-14mm.runout_m",
+     ".3f", 1),
+    ("docs/verification.md", "3.54, 4.73 and {} mm thick 1, 2 and 5 cm behind the tip",
+     BED_MODELS, "rest.rest-22-14mm.thickness_5cm_behind_tip_mm", ".2f", 1),
+    ("docs/verification.md", "at 14 mm the run took {} steps", BED_MODELS,
+     "rest.rest-22-14mm.steps", ",d", 1),
+    ("docs/verification.md", "the surface's nodes {} mm apart", BED_MODELS,
+     "rest.rest-22-14mm.surface_spacing_at_tip_mm", ".1f", 1),
+    ("docs/verification.md", "| 0.3736 | -{} % |", BED_MODELS,
+     _against_paper_model("rectangle-drucker-prager-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.4622 | +{} % |", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-coulomb"), ".1f", 100),
+    ("docs/verification.md", "| 0.4078 | -{} % |", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.4303 | +{} % |", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-material"), ".1f", 100),
+    ("docs/verification.md", "| 0.4545 | +{} % |", BED_MODELS,
+     _against_paper_model("rectangle-nonlocal-coulomb"), ".1f", 100),
+    ("docs/verification.md", "| 0.3967 | -{} % |", BED_MODELS,
+     _against_paper_model("rectangle-nonlocal-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.4251 | -{} % |", BED_MODELS,
+     _against_paper_model("rectangle-nonlocal-material"), ".1f", 100),
+    ("docs/verification.md", "| 0.6029 | -{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-drucker-prager-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.7526 | +{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-coulomb"), ".1f", 100),
+    ("docs/verification.md", "| 0.6748 | +{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.7031 | +{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-material"), ".1f", 100),
+    ("docs/verification.md", "| 0.7382 | +{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-nonlocal-coulomb"), ".1f", 100),
+    ("docs/verification.md", "| 0.6573 | -{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-nonlocal-no-slip"), ".1f", 100),
+    ("docs/verification.md", "| 0.6965 | +{} % |", BED_MODELS,
+     _against_paper_model("trapezoid-nonlocal-material"), ".1f", 100),
 ]
 
 

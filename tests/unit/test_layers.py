@@ -201,7 +201,8 @@ def test_three_questions_each_have_one_home() -> None:
     layer from the number). Is the bed the paper's: the scene decides from the profile keys
     (the geometry rules test whether one is given)."""
     rules = {"scenarios/column_rules.py", "scenarios/column_geometry_rules.py",
-             "scenarios/plug_flow_rules.py", "scenarios/three_d_rules.py"}
+             "scenarios/plug_flow_rules.py", "scenarios/three_d_rules.py",
+             "scenarios/slab_rules.py"}
     assert files(r"\b(geometry|geo|g)\.axisymmetric\b") <= {"fem/measure.py",
                                                              "geometry/scene.py", *rules}
     assert files(r"^[^\"'#]*erodible_thickness\s*(>|<=)\s*0\b") == {
@@ -224,6 +225,7 @@ def test_the_flow_solver_names_no_coupling() -> None:
                                "fem/nonlinear.py", "fem/primal_dual.py",
                                "scenarios/fluidity.py", "scenarios/mobilisation_tracking.py",
                                "scenarios/column_discretisation.py", "scenarios/column.py",
-                               "scenarios/plug_flow.py", "scenarios/column_remesher.py"}]
+                               "scenarios/plug_flow.py", "scenarios/slab.py",
+                               "scenarios/column_remesher.py"}]
     page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
     assert "## The flow solver, built from parts" in page and "build_flow" in page

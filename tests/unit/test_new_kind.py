@@ -47,7 +47,7 @@ def toy_kind(monkeypatch: pytest.MonkeyPatch) -> None:
 
 def test_an_unregistered_kind_is_refused_by_name() -> None:
     with pytest.raises(ConfigError, match=r"geometry.kind = 'toy-layer': must be one of "
-                                          r"'column', 'periodic-layer'$"):
+                                          r"'column', 'periodic-layer', 'slab'$"):
         load_config("plug-flow", ["geometry.kind=toy-layer"])
 
 

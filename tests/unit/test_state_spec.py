@@ -39,6 +39,9 @@ CASES = {
     "nonlocal": ("rectangle-rigid", ["mesh.size=0.05", "time.t_end=0.004",
                                      "material.rheology=nonlocal"]),
     "plug-nonlocal": ("plug-flow", ["time.t_end=0.01", "material.rheology=nonlocal"]),
+    "slab-hysteretic": ("slab", [
+        "time.t_end=0.01", "geometry.erodible_thickness=0.005", "material.rheology=mu-i",
+        "material.friction=hysteretic", "layer.initial_mobilisation=0.5"]),
 }
 
 

@@ -251,6 +251,7 @@ class Gate(_Section):
 
 
 class Boundary(_Section):
+    bed: Literal["coulomb", "no-slip", "material"]  # the rigid bed's law (physics/bed.py)
     bed_friction_deg: Angle  # Coulomb mu_b = tan(angle)
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
     penalty: Penalty  # enforces u.n = 0 on the bed and the wall
@@ -273,6 +274,7 @@ class Initial(_Section):
     shear_rate: Annotated[float, Field(ge=0, le=1e4)]  # plug flow: U0 = rate [Z - plug_base]_+
     plug_base: Annotated[float, Field(ge=0, le=1e4)]
     fluidity: Annotated[float, Field(ge=0, le=10)]  # periodic nonlocal layer: g / g_local
+    slab_speed: Annotated[float, Field(ge=0, le=100)]  # slab: its speed along the bed (m/s)
 
 
 class Mesh(_Section):

@@ -15,6 +15,7 @@ Sign convention: N is the outward unit normal. Norms are Frobenius, no factor 1/
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import operator
 from collections.abc import Sequence
@@ -25,7 +26,8 @@ import ngsolve as ngs
 
 from granflow.fem.engine import NGSOLVE_OPS, read_on_walls
 from granflow.fem.measure import PLANE, Coordinates
-from granflow.physics import CoulombFriction, Rheology, SideWallFriction
+from granflow.physics import Rheology, SideWallFriction
+from granflow.physics.ops import Ops
 
 
 def strain_rate(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
@@ -80,6 +82,15 @@ class Term(Protocol):
 
     def lhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
     def rhs(self, s: Symbols, mesh: ngs.Mesh) -> ngs.SumOfIntegrals | None: ...
+
+
+class WallLaw(Protocol):
+    """What a wall exerts along itself: the factor c of the traction -c u_T from |u_T|^2 and
+    the normal load (``physics/friction.py: CoulombFriction``, ``physics/bed.py``)."""
+
+    def drag_coefficient_sq(self, slip_sq: ngs.CoefficientFunction,
+                            normal_stress: ngs.CoefficientFunction,
+                            ops: Ops) -> ngs.CoefficientFunction: ...
 
 
 class StressTerm(Term, Protocol):
@@ -202,7 +213,8 @@ class BodyForce:
 
 @dataclass(frozen=True)
 class FrictionWall:
-    """A boundary region with Coulomb friction (2.8) and the non-penetration penalty (2.7).
+    """A boundary region with Coulomb friction (2.8) (or another law along it: a bed's,
+    ``physics/bed.py``) and the non-penetration penalty (2.7).
 
     ``normal_load`` is what presses the material on the wall in the friction law:
     "pressure", the paper's pointwise [p - sigma'_N]_+ of (3.2a), or "reaction", the
@@ -212,9 +224,16 @@ class FrictionWall:
     """
 
     region: str
-    law: CoulombFriction
+    law: WallLaw
     normal_load: str = "pressure"
     velocity: ngs.CoefficientFunction | None = None   # a moving wall's (a gate), tangential
+
+    def on_law(self, rheology: Rheology) -> FrictionWall:
+        """This wall for a flow of ``rheology``: a law that is the material's own (it has
+        ``for_law``, a recipe frozen before the law exists: ``scenarios/bed.py``) made of
+        it, any other as it is."""
+        for_law = getattr(self.law, "for_law", None)
+        return self if for_law is None else dataclasses.replace(self, law=for_law(rheology))
 
 
 @dataclass(frozen=True)
@@ -264,7 +283,9 @@ class CoulombWallFriction:
         moving = s.u_lin if self.wall.velocity is None else s.u_lin - self.wall.velocity
         slip = tangential(moving, n)
         skeleton = False
-        if self.wall.normal_load == "reaction":
+        if not getattr(self.wall.law, "reads_load", True):     # a no-slip penalty
+            load = ngs.CF(0.0)
+        elif self.wall.normal_load == "reaction":
             load = self.penalty * (s.u_lin * n)
         else:
             sigma = self.stress.wall_deviatoric(s.u_lin, s.p_lin, frozen)
@@ -330,7 +351,7 @@ def momentum_terms(*, density: float | ngs.CoefficientFunction, inertia: Term,
     stress = stress or ViscoplasticStress(rheology, coords)
     terms: list[Term] = [inertia, Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
-    for wall in walls:
+    for wall in (w.on_law(rheology) for w in walls):
         terms += [CoulombWallFriction(wall, stress, penalty), NormalPenalty(wall.region, penalty)]
     if surface_traction is not None:
         terms.append(surface_traction)

@@ -17,7 +17,8 @@ from granflow.geometry.profile import CORNER_DEG
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
 
 __all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
-           "periodic_layer_mesh", "polygon_mesh", "signed_areas", "triangle_quality"]
+           "periodic_layer_mesh", "polygon_mesh", "signed_areas", "stacked_layer_mesh",
+           "triangle_quality"]
 
 FLAT_QUALITY = 1e-6   # a fresh triangle of lower shape quality is flat (a sharp tip: 1e-3)
 
@@ -33,6 +34,25 @@ def periodic_layer_mesh(length: float, height: float, size: float,
     nx = cells_x if cells_x is not None else max(2, round(length / size))
     mesh = MakeStructured2DMesh(quads=False, nx=nx, ny=ny, periodic_x=True,
                                 mapping=lambda x, y: (length * x, height * y))
+    names = mesh.GetBoundaries()
+    mesh.ngmesh.SetBCName(names.index("bottom"), BED)
+    mesh.ngmesh.SetBCName(names.index("top"), SURFACE)
+    return ngs.Mesh(mesh.ngmesh)
+
+
+def stacked_layer_mesh(length: float, layers: Sequence[tuple[float, int]],
+                       cells_x: int) -> ngs.Mesh:
+    """Structured triangles of [0, length] x [0, sum of thicknesses], periodic in x, from
+    the bed up: ``layers`` holds (thickness, cells across it), each layer's cells of equal
+    height, so that a horizontal mesh line separates consecutive layers (a slab over a
+    layer at rest)."""
+    levels = [0.0]
+    for thickness, cells in layers:
+        levels += list(levels[-1] + thickness * np.arange(1, cells + 1) / cells)
+    z = np.array(levels)
+    unit = np.linspace(0.0, 1.0, len(z))
+    mesh = MakeStructured2DMesh(quads=False, nx=cells_x, ny=len(z) - 1, periodic_x=True,
+                                mapping=lambda x, y: (length * x, float(np.interp(y, unit, z))))
     names = mesh.GetBoundaries()
     mesh.ngmesh.SetBCName(names.index("bottom"), BED)
     mesh.ngmesh.SetBCName(names.index("top"), SURFACE)

@@ -93,6 +93,15 @@ class MuI:
             ops.positive_part(pressure) / self.grain_density
             + (self.eps * self.grain_diameter) ** 2)
 
+    def sliding_stress(self, slip_speed: Any, load: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """mu(I_b) P sliding at ``slip_speed`` over a bed of its own grains, I_b = slip /
+        sqrt(P / rho_s) (``physics/bed.py``), written as the yield stress is: finite at
+        P = 0."""
+        load = ops.positive_part(load)
+        root = ops.sqrt(load / self.grain_density + (self.eps * self.grain_diameter) ** 2)
+        return self.mu_s * load + (self.mu_2 - self.mu_s) * load * slip_speed / (
+            self.i0 * root + slip_speed)
+
     def yield_stress_sq(self, strain_rate_sq: Any, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
         """kappa = sqrt(2) mu(I) [p]_+ at the regularised shear rate, finite at p = 0."""
         reg = ops.sqrt(strain_rate_sq + self.eps**2)

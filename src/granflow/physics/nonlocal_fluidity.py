@@ -117,6 +117,17 @@ class NonlocalFluidity:
                             ops: Ops = NUMPY_OPS) -> Any:
         return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
 
+    def sliding_stress(self, slip_speed: Any, load: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """(mu_s + b I_b) P sliding at ``slip_speed`` over a bed of its own grains, I_b =
+        slip / sqrt(P / rho_s) (``physics/bed.py``): the local law, at most mu_2 P where the
+        law has its cap."""
+        load = ops.positive_part(load)
+        local = self.mu_s * load + self.b * slip_speed * load / self.root_pressure(load, ops)
+        if self.friction_cap_deg is None:
+            return local
+        cap = math.tan(math.radians(self.friction_cap_deg)) * load
+        return cap - ops.positive_part(cap - local)
+
     # --- the coefficients of the fluidity equation ---------------------------------------
     def root_pressure(self, pressure: Any, ops: Ops = NUMPY_OPS) -> Any:
         """sqrt(P / rho_s), regularised like mu(I)'s: sqrt(P / rho_s + (eps d)^2)."""

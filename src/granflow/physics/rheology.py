@@ -59,6 +59,11 @@ class DruckerPrager:
         """kappa = sqrt(2) mu_s [p]_+ (2.4)."""
         return math.sqrt(2.0) * self.mu_s * ops.positive_part(pressure)
 
+    def sliding_stress(self, slip_speed: Any, load: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """mu_s [load]_+: the stress it exerts sliding over a bed of its own grains, at any
+        speed (``physics/bed.py``)."""
+        return self.mu_s * ops.positive_part(load)
+
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:
         """The factor ``m`` with sigma' = m Du in (2.13): 2 eta + kappa / sqrt(|Du|^2 + eps^2).

@@ -12,6 +12,7 @@ from granflow.config.scenario_files import builtin_scenarios, scenario_text
 
 BUILT_IN = (("granflow.scenarios.column_rules", "granflow.scenarios.column"),
             ("granflow.scenarios.plug_flow_rules", "granflow.scenarios.plug_flow"),
+            ("granflow.scenarios.slab_rules", "granflow.scenarios.slab"),
             # three dimensions (geometry.dimension = 3): the same kinds' rules
             ("granflow.scenarios.plug_flow_rules", "granflow.scenarios.plug_flow_3d"),
             ("granflow.scenarios.column_rules", "granflow.scenarios.channel_column"))

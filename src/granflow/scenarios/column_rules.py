@@ -11,6 +11,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from granflow.config.kinds import KindRules, register_rules
+from granflow.scenarios.bed_rules import bed_inert_keys
 from granflow.scenarios.column_geometry_rules import (
     erodible,
     geometry_inert_keys,
@@ -103,6 +104,8 @@ def inert_keys(c: Config) -> dict[str, str]:
 
     add("geometry.length initial.shear_rate initial.plug_base mesh.cells_x",
         "it describes the periodic layer, and geometry.kind = 'column'")
+    add("initial.slab_speed", "it describes a slab, and geometry.kind = 'column'")
+    out |= bed_inert_keys(c)
     if g.axisymmetric:
         add("boundary.wall_friction_deg", "geometry.axisymmetric = true: x = 0 is the "
             "symmetry axis (u_r = 0, no friction), not a wall")

@@ -2,7 +2,7 @@
 walls, the mass and the meshed erodible layer, ``geometry/scene.py``; a bed profile's file
 is read here and nowhere else), plane or r-z coordinates (``fem/measure.py``), the run's
 materials (an erodible layer's own, or none: ``scenarios/materials.py``) and how the layer
-is meshed, and the flow solver's frozen parts (``scenarios/flow_config.py``: its Coulomb walls,
+is meshed, and the flow solver's frozen parts (``scenarios/flow_config.py``: its walls,
 the axis, the surface). Every part of a collapse (the discretisation, the remesher, the size
 field, the measures, the layer tracking, the figures) reads these from one frozen ``ColumnSetup``,
 which is the one home of three questions: is there an erodible layer (``erodible``), is the
@@ -22,11 +22,12 @@ from granflow.config.kinds import erodible_layer
 from granflow.fem.flow_spec import FlowSpec
 from granflow.fem.forms import FrictionWall
 from granflow.fem.measure import Coordinates, coordinates_of
-from granflow.geometry.mesh import BED, END, GATE, SURFACE, WALL
+from granflow.geometry.mesh import END, GATE, SURFACE, WALL
 from granflow.geometry.profile import BedProfile
 from granflow.geometry.scene import Scene, build_scene
 from granflow.geometry.stretch import LayerStretch
 from granflow.physics import CoulombFriction
+from granflow.scenarios.bed import bed_wall, rough_bed
 from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.materials import RunMaterials, run_materials
 
@@ -58,7 +59,7 @@ class ColumnSetup:
         layout = Layout(coordinates, column_walls(config, scene, coordinates, erodible,
                                                   gate_speed),
                         axis=WALL if coordinates.axisymmetric else "",
-                        rough=BED if config.boundary.bed_fluidity == "zero" else "",
+                        rough=rough_bed(config),
                         surface=SURFACE)
         return cls(config, scene, coordinates, materials, erodible,
                    flow_spec(config, materials, layout), gate_speed)
@@ -127,13 +128,13 @@ def layer_end(config: Config, moving_x: float) -> float:
 
 def column_walls(config: Config, scene: Scene, coordinates: Coordinates, erodible: bool,
                  gate_speed: ngs.Parameter | None) -> tuple[FrictionWall, ...]:
-    """The Coulomb walls: the bed, the wall at x = 0 unless it is the symmetry axis (in
-    axisymmetry u_r = 0 there, no friction, no penalty), the far end of an erodible layer
-    (frictionless, u.N = 0), and a gate sliding up along itself (friction against its
-    motion)."""
+    """The walls: the bed (``boundary.bed``, ``scenarios/bed.py``), the Coulomb wall at
+    x = 0 unless it is the symmetry axis (in axisymmetry u_r = 0 there, no friction, no
+    penalty), the far end of an erodible layer (frictionless, u.N = 0), and a gate sliding
+    up along itself (friction against its motion)."""
     bnd, eps = config.boundary, config.numerics.eps_friction
     load = bnd.normal_load
-    walls = [FrictionWall(BED, CoulombFriction(bnd.bed_friction_deg, eps), load)]
+    walls = [bed_wall(config)]
     if not coordinates.axisymmetric:
         walls.append(FrictionWall(WALL, CoulombFriction(bnd.wall_friction_deg, eps), load))
     if erodible:

@@ -48,9 +48,10 @@ def inert_keys(c: Config) -> dict[str, str]:
     column = "it describes a column, and geometry.kind = 'periodic-layer'"
     add("geometry.shape geometry.width geometry.front_angle_deg geometry.erodible_thickness "
         "geometry.bed_length geometry.axisymmetric", column)
+    add("initial.slab_speed", "it describes a slab, and geometry.kind = 'periodic-layer'")
     add("boundary.channel_width boundary.side_wall_friction_deg",
         "the periodic layer is infinitely wide (the plane shear of section 4)")
-    add("boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
+    add("boundary.bed boundary.bed_friction_deg boundary.wall_friction_deg boundary.penalty "
         "boundary.normal_load numerics.eps_friction boundary.bed_fluidity",
         "the periodic layer has a no-slip bed and no walls")
     add("mesh.remesh_quality mesh.failure_remesh_quality mesh.layer_cells mesh.layer_ahead "
