@@ -47,7 +47,8 @@ def test_a_coarse_3d_column_runs_with_its_outputs(channel: Run) -> None:
     ("material.rheology=nonlocal", "not verified in 3D"),
     ("numerics.method=augmented-lagrangian", "2 x 2 tensors"),
     ("gate.enabled=true", "not available in 3D"),
-    ("geometry.erodible_thickness=0.005", "not available in 3D")])
+    ("geometry.erodible_thickness=0.005", "not available in 3D"),
+    ("boundary.bed=no-slip", "not verified in 3D")])
 def test_3d_column_refuses_what_is_not_verified(setting: str, words: str) -> None:
     with pytest.raises(ConfigError, match=words):
         load_config("rectangle-rigid", ["geometry.dimension=3", setting])

@@ -65,6 +65,9 @@ def column_3d_problems(c: Config) -> Iterator[str]:
     if not g.left_wall:
         yield (f"geometry.left_wall = false: a 3D column stands against its back wall "
                f"({THREE_D}); set it true")
+    if c.boundary.bed != "coulomb":
+        yield (f"boundary.bed = {c.boundary.bed!r} is not verified in 3D ({THREE_D}); "
+               "use 'coulomb'")
 
 
 def layer_3d_problems(c: Config) -> Iterator[str]:
