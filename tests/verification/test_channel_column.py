@@ -8,11 +8,13 @@ moving). The surfaces meet it behind the front's last mesh.size; at the front's 
 not (an expected failure, kept so that it is seen when it changes)."""
 
 import json
+import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from granflow.app.api import Run, run
+from granflow.app.api import Run, resume, run
 from granflow.config import ConfigError, load_config
 from granflow.geometry.polylines import point_to_polyline
 from granflow.io.profiles import curves
@@ -41,6 +43,21 @@ def test_a_coarse_3d_column_runs_with_its_outputs(channel: Run) -> None:
             assert len(profile) >= 3 and profile["z"].max() > 0.1
     vtu = sorted((channel.root / "fields").glob("*.vtu"))
     assert vtu and b"UnstructuredGrid" in vtu[-1].read_bytes()[:400]
+
+
+def test_a_3d_run_extended_from_its_checkpoint_is_the_uninterrupted_one(
+        channel: Run, tmp_path: Path) -> None:
+    """The coarse run, copied and extended to 0.03 s from its checkpoint (mesh, fields,
+    mover and remesh record restored), against the run made to 0.03 s at once: the same
+    steps, the runout within 1e-5 (the nonlinear tolerance's order)."""
+    copy = tmp_path / "extended"
+    shutil.copytree(channel.root, copy)
+    extended = resume(copy, {"time.t_end": 0.03})
+    straight = run("rectangle-rigid", [*COARSE[:2], "time.t_end=0.03", *COARSE[3:]],
+                   out=tmp_path / "straight", progress=False)
+    assert extended.summary.status == straight.summary.status == "completed"
+    assert extended.summary.steps == straight.summary.steps
+    assert extended.summary.runout_m == pytest.approx(straight.summary.runout_m, rel=1e-5)
 
 
 @pytest.mark.parametrize("setting, words", [
