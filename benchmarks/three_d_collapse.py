@@ -45,9 +45,9 @@ def _cpu(who: int) -> tuple[float, float]:
     return r.ru_utime + r.ru_stime, r.ru_maxrss / 1024.0
 
 
-def rest(size: float, ranks: int, out: Path) -> dict[str, Any]:
-    sets = [*CHANNEL, f"mesh.size={size!r}"]
-    folder = out / f"run_h{size:g}_n{ranks}"
+def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, Any]:
+    sets = [*(CHANNEL[1:] if two_d else CHANNEL), f"mesh.size={size!r}"]
+    folder = out / (f"run2d_h{size:g}" if two_d else f"run_h{size:g}_n{ranks}")
     if ranks == 1:
         profiler = cProfile.Profile(time.process_time)   # processor, not wall, seconds
         cpu0, _ = _cpu(resource.RUSAGE_SELF)
@@ -74,6 +74,7 @@ def rest(size: float, ranks: int, out: Path) -> dict[str, Any]:
         "status", "message", "steps", "rejected_steps", "nonlinear_iterations", "n_dofs",
         "runout_m", "stop_time_s", "volume_relative_error")}
     raw = json.loads((folder / "summary.json").read_text())
+    figures |= {"dimension": 2 if two_d else 3}
     figures |= {key: raw.get(key) for key in ("runout_wall_m", "runout_centre_m",
                                               "wall_height_m", "remeshes",
                                               "min_tetrahedron_quality")}
@@ -119,6 +120,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--size", type=float, default=None)
     parser.add_argument("--ranks", type=int, default=1)
     parser.add_argument("--t-end", type=float, default=0.2)
+    parser.add_argument("--two-d", action="store_true",
+                        help="rest: the 2D run with the depth-averaged side walls instead")
     parser.add_argument("--reuse", action="store_true",
                         help="plane-strain: measure the runs already in --out/runs")
     parser.add_argument("--out", type=Path,
@@ -128,8 +131,9 @@ def main(argv: list[str] | None = None) -> int:
     runs = args.out / "runs"
     if args.case == "rest":
         size = args.size or 0.04
-        data = rest(size, args.ranks, runs)
-        name = f"rest_h{size:g}_n{args.ranks}.json"
+        data = rest(size, args.ranks, runs, args.two_d)
+        name = (f"rest2d_h{size:g}.json" if args.two_d
+                else f"rest_h{size:g}_n{args.ranks}.json")
         print(f"{data['status']}: stop {data['stop_time_s']} s, runout {data['runout_m']:.4f}"
               f" m, {data['steps']} steps, {data['cpu_s']:.0f} s CPU, "
               f"{data['peak_mb']:.0f} MB")
