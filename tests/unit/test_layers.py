@@ -201,7 +201,8 @@ def test_three_questions_each_have_one_home() -> None:
     layer from the number). Is the bed the paper's: the scene decides from the profile keys
     (the geometry rules test whether one is given)."""
     rules = {"scenarios/column_rules.py", "scenarios/column_geometry_rules.py",
-             "scenarios/plug_flow_rules.py", "scenarios/slab_rules.py"}
+             "scenarios/plug_flow_rules.py", "scenarios/three_d_rules.py",
+             "scenarios/slab_rules.py"}
     assert files(r"\b(geometry|geo|g)\.axisymmetric\b") <= {"fem/measure.py",
                                                              "geometry/scene.py", *rules}
     assert files(r"^[^\"'#]*erodible_thickness\s*(>|<=)\s*0\b") == {

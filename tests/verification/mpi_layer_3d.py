@@ -1,13 +1,15 @@
 """Run by tests/verification/test_mpi.py under ``mpiexec -n N``: the 3D layer of the plug
-flow for two coarse steps; rank 0 prints its results as one JSON line."""
+flow for two coarse steps; rank 0 runs it and prints its results as one JSON line, the
+other ranks serve its distributed solves (``fem/distributed_flow.py``)."""
 
 import json
 
 from granflow.config import load_config
+from granflow.fem.distributed_flow import release, serve
 from granflow.fem.mpi import world_rank, world_size
 from granflow.scenarios.plug_flow_3d import build_plug_flow_3d
 
-OVERRIDES = ["time.dt=0.025", "mesh.size=0.25", "geometry.length=0.5",
+OVERRIDES = ["geometry.dimension=3", "time.dt=0.025", "mesh.size=0.25", "geometry.length=0.5",
              "time.output_times=[]", "time.t_end=0.05"]
 
 
@@ -23,6 +25,10 @@ def run() -> dict[str, float]:
 
 
 if __name__ == "__main__":
-    out = run()
-    if world_rank() == 0:
-        print(json.dumps(out), flush=True)
+    if world_rank() > 0:
+        serve()
+    else:
+        try:
+            print(json.dumps(run()), flush=True)
+        finally:
+            release()

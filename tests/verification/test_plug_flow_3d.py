@@ -9,7 +9,7 @@ the paper's (the paper's 2D value, 0.0125); the flow stays along the slope.
 import ngsolve as ngs
 import pytest
 
-from granflow.config import load_config
+from granflow.config import ConfigError, load_config
 from granflow.scenarios.plug_flow_3d import build_plug_flow_3d
 from granflow.verify import paper_table, run_cell
 
@@ -18,8 +18,9 @@ DT, DZ = 2.5e-2, 0.25
 
 @pytest.fixture(scope="module")
 def layer():
-    config = load_config("plug-flow", [f"time.dt={DT!r}", f"mesh.size={DZ!r}",
-                                       f"geometry.length={2 * DZ!r}", "time.output_times=[]"])
+    config = load_config("plug-flow", ["geometry.dimension=3", f"time.dt={DT!r}",
+                                       f"mesh.size={DZ!r}", f"geometry.length={2 * DZ!r}",
+                                       "time.output_times=[]"])
     problem = build_plug_flow_3d(config)
     result = problem.simulation.run()
     return problem, result
@@ -49,7 +50,11 @@ def test_3d_plug_flow_stays_along_the_slope(layer) -> None:
     assert max(across, normal) <= 1e-12 * along
 
 
-def test_3d_layer_refuses_an_unverified_law() -> None:
-    config = load_config("plug-flow", ["material.rheology=mu-i"])
-    with pytest.raises(ValueError, match="not verified in 3D"):
-        build_plug_flow_3d(config)
+@pytest.mark.parametrize("setting, words", [
+    ("material.rheology=nonlocal", "not verified in 3D"),
+    ("material.friction=hysteretic", "not verified in 3D"),
+    ("numerics.mesh_velocity=vertical", "runs on a fixed mesh"),
+    ("numerics.method=augmented-lagrangian", "2 x 2 tensors")])
+def test_3d_layer_refuses_what_is_not_verified(setting: str, words: str) -> None:
+    with pytest.raises(ConfigError, match=words):
+        load_config("plug-flow", ["geometry.dimension=3", setting])

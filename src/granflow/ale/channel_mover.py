@@ -1,111 +1,160 @@
-"""The ALE move of a 3D column in a channel (prototype): the mesh velocity (3.6) extended
-into the volume, the vertices kept on the planes that bound the flow, deposition of the free
-surface on the bed, and a new volume mesh from the moved surface.
+"""The ALE move of a 3D column in a channel: the mesh velocity (3.6) or (3.7) in the volume,
+the vertices kept on the planes that bound the flow, deposition of the free surface on them,
+the volume's drift corrected on the free surface, and a new volume mesh from the moved
+surface (the loop's ``MeshMotion``, ``simulation/simulation.py``).
 
 The section's move (``ale/column_mover.py``) walks boundary segments; here the boundary is a
 triangulation (Netgen's surface elements of a tetrahedral mesh) and the planes are the bed
-Z = 0, the back wall X = 0, the side wall Y = W/2 (and Y = -W/2, or the symmetry plane Y = 0
-of the half channel). A vertex on one of them moves along it: its velocity's normal
-component is dropped. The checks and amounts are volumes (m^3).
+Z = 0, the back wall X = 0 and the two faces across the channel (``ChannelSpan``). A vertex
+on one of them moves along it: its velocity's normal component is dropped. Section 3.3 in
+3D: the step is shortened so that no surface vertex crosses the bed or the back wall, the
+first to reach one landing on it; a surface triangle lying on a plane takes its label (and
+its friction and u.N = 0). The checks and amounts are volumes (m^3).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import ClassVar
 
 import ngsolve as ngs
 import numpy as np
 from netgen.meshing import Element2D, FaceDescriptor, MeshPoint, Pnt
 from netgen.meshing import Mesh as NgMesh
 
-from granflow.ale.mesh_motion import ElasticMeshVelocity, move_mesh, vertex_values
-from granflow.geometry.labels import BED, SIDE, SURFACE, SYMMETRY, WALL
+from granflow.ale.mesh_motion import AleMover, MeshVelocitySolver, VelocityHistory
+from granflow.geometry.labels import SURFACE
+from granflow.geometry.mesh3d import (
+    LABELS_3D,
+    ON_PLANE,
+    ChannelSpan,
+    boundary_faces,
+    signed_volumes,
+    tetrahedra,
+)
 from granflow.simulation.outcomes import MoveFailure
+from granflow.state.spec import COUNT, REAL, Share, number
 
-ON_PLANE = 1e-9   # m: a vertex this close to a bounding plane is on it
+__all__ = ["ChannelMover", "deposit", "remesh_from_surface", "restore_volume",
+           "signed_volumes", "surface_volume_gradient", "tetrahedra"]
 
-
-def tetrahedra(mesh: ngs.Mesh) -> np.ndarray:
-    """(ne, 4) zero-based vertex indices of the tetrahedra."""
-    return mesh.ngmesh.Elements3D().NumPy()["nodes"][:, :4].astype(np.int64) - 1
-
-
-def signed_volumes(mesh: ngs.Mesh, coords: np.ndarray | None = None) -> np.ndarray:
-    """Signed volumes of the tetrahedra (positive = not inverted: Netgen numbers a
-    tetrahedron's vertices so that (b - a) x (c - a) . (d - a) < 0)."""
-    xyz = mesh.ngmesh.Coordinates() if coords is None else coords
-    tet = tetrahedra(mesh)
-    a, b, c, d = (xyz[tet[:, k]] for k in range(4))
-    return -np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
+CROSS = 1e-12           # m: a vertex this far beyond a bounding plane has crossed it
+LANDING_TOLERANCE = 1e-9   # relative slack on the landing time of a vertex
 
 
-def surface_triangles(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """(nf, 3) zero-based vertex indices of the boundary triangles and each one's label."""
-    faces = mesh.ngmesh.Elements2D().NumPy()
-    names = np.array([mesh.ngmesh.GetBCName(i) for i in range(len(mesh.GetBoundaries()))])
-    return faces["nodes"][:, :3].astype(np.int64) - 1, names[faces["index"] - 1]
+class ChannelMover(AleMover):
+    """AleMover on tetrahedra: w held on the bounding planes and pure Lagrangian (w = u)
+    on the contact lines of the free surface with them, the step limited so that surface
+    vertices land on the bed or the back wall, deposition, and the volume correction."""
 
+    share: ClassVar[Share] = {      # its share of a checkpoint (``save_state``)
+        "initial_volume": number(0.0, above=True), "relabelled_segments": COUNT,
+        "limited_steps": COUNT, "velocity_solves": COUNT, "correction_abs": REAL,
+        "correction_net": REAL}
 
-@dataclass(frozen=True)
-class ChannelPlanes:
-    """The planes that bound a column in a channel of width W (full or half)."""
-
-    channel_width: float
-    half: bool = False
-
-    def held(self, xyz: np.ndarray, tol: float = ON_PLANE) -> np.ndarray:
-        """(nv, 3) booleans: the components of each vertex's velocity that must vanish (the
-        vertex lies on a plane normal to that axis)."""
-        y_low = 0.0 if self.half else -0.5 * self.channel_width
-        return np.column_stack([np.abs(xyz[:, 0]) < tol,
-                                (np.abs(xyz[:, 1] - y_low) < tol)
-                                | (np.abs(xyz[:, 1] - 0.5 * self.channel_width) < tol),
-                                np.abs(xyz[:, 2]) < tol])
-
-
-class ChannelMover:
-    """dt w on a 3D column: w from (3.6) with the flow's velocity on the boundary, its
-    components normal to the bounding planes removed at the vertices on them; the move's
-    check (no inverted tetrahedron), its undo, and deposition after it."""
-
-    def __init__(self, mesh: ngs.Mesh, velocity: ngs.GridFunction, planes: ChannelPlanes,
-                 penalty: float = 1e8, conserve_volume: bool = False) -> None:
-        self.mesh, self.velocity, self.planes = mesh, velocity, planes
-        self.target = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
-        self._source = ngs.GridFunction(velocity.space)
-        self._w = ElasticMeshVelocity(mesh, self._source, self.target, penalty)
-        self._saved: np.ndarray | None = None
-        self.conserve_volume = conserve_volume
+    def __init__(self, mesh: ngs.Mesh, velocity_solver: MeshVelocitySolver,
+                 source: ngs.GridFunction, flow: VelocityHistory, target: ngs.GridFunction,
+                 span: ChannelSpan, extrapolate: bool = False,
+                 conserve_volume: bool = True) -> None:
+        super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
+        self.span, self.conserve_volume = span, conserve_volume
         self.initial_volume = self.volume()
+        self.relabelled_segments = 0      # surface triangles deposited (the runner's name)
+        self.limited_steps = 0
+        self.landed: np.ndarray = np.empty(0, dtype=np.int64)
+        self.step_correction = 0.0        # relative volume restored at the last move
+        self.correction_abs = 0.0
+        self.correction_net = 0.0
+        self._surface = np.empty(0, dtype=np.int64)
+        self._find_surface()
 
-    def vertex_velocity(self) -> np.ndarray:
-        """w at the vertices (3.6), held on the bounding planes."""
-        self._source.vec.data = self.velocity.vec
-        w = vertex_values(self._w.compute())
-        w[self.planes.held(self.mesh.ngmesh.Coordinates())] = 0.0
-        return w
+    def _find_surface(self) -> None:
+        faces, labels = boundary_faces(self.mesh)
+        self._surface = np.unique(faces[labels == SURFACE])
 
-    def move(self, dt: float) -> MoveFailure | None:
-        """Move the vertices by dt w (3.1), land those that cross the bed on it, relabel the
-        surface triangles that lie on the bed; undo and report an inverted tetrahedron."""
-        w = self.vertex_velocity()
-        self._saved = self.mesh.ngmesh.Coordinates().copy()
-        move_mesh(self.mesh, dt * w)
+    # --- checkpoint and remesh ---------------------------------------------------------
+    def save_state(self) -> dict[str, object]:
+        return {"initial_volume": self.initial_volume,
+                "relabelled_segments": self.relabelled_segments,
+                "limited_steps": self.limited_steps, "velocity_solves": self.velocity_solves,
+                "correction_abs": self.correction_abs, "correction_net": self.correction_net}
+
+    def restore_state(self, state: dict[str, object]) -> None:
+        for key in self.share:
+            setattr(self, key, state[key])
+
+    def inherit(self, other: ChannelMover) -> None:
+        """Carry the reference volume and the counters over a remesh."""
+        self.restore_state(other.save_state())
+
+    # --- the step ------------------------------------------------------------------------
+    def prepare(self, dt: float) -> float:
+        """w for this step, and dt shortened so that no surface vertex crosses the bed or
+        the back wall (the first to reach one lands on it, ``move``)."""
+        self._prepare_w(dt)
+        assert self.w_vertices is not None
+        limited, self.landed = self._landing(dt)
+        if limited < dt:
+            dt = limited
+            self.limited_steps += 1
+            if self.extrapolate:          # w for the shortened step; the landed set is kept
+                self._prepare_w(dt)
+        return dt
+
+    def _prepare_w(self, dt: float) -> None:
+        super().prepare(dt)
+        assert self.w_vertices is not None
         xyz = self.mesh.ngmesh.Coordinates()
-        xyz[:, 2] = np.maximum(xyz[:, 2], 0.0)        # deposition: nothing goes below the bed
+        held = self.span.held(xyz)
+        contact = self._surface[held[self._surface].any(axis=1)]
+        self.w_vertices[contact] = self.source_at_vertices(dt)[contact]   # section 3.2
+        self.w_vertices[held] = 0.0
+
+    def _landing(self, dt: float) -> tuple[float, np.ndarray]:
+        """The step to the first landing of a free surface vertex on the bed or the back
+        wall, and the vertices that land within it."""
+        assert self.w_vertices is not None
+        xyz = self.mesh.ngmesh.Coordinates()
+        free = self._surface[~self.span.held(xyz)[self._surface].any(axis=1)]
+        times = np.full(len(free), np.inf)
+        for axis in (0, 2):                       # the back wall X = 0, the bed Z = 0
+            w = self.w_vertices[free, axis]
+            going = w < 0
+            times[going] = np.minimum(times[going], xyz[free[going], axis] / -w[going])
+        if times.size and float(times.min()) < dt:
+            dt = float(times.min())
+        return dt, free[times <= dt * (1 + LANDING_TOLERANCE)]
+
+    def move(self, dt: float) -> None:
+        super().move(dt)
+        xyz = self.mesh.ngmesh.Coordinates()
+        for v in self.landed:                     # onto the plane it reached first
+            axis = 0 if xyz[v, 0] < xyz[v, 2] else 2
+            xyz[v, axis] = 0.0
+        xyz[:, 0] = np.maximum(xyz[:, 0], 0.0)
+        xyz[:, 2] = np.maximum(xyz[:, 2], 0.0)
+        self.step_correction = 0.0
         if self.conserve_volume:
-            restore_volume(self.mesh, self.initial_volume, self.planes)
+            self.step_correction = restore_volume(self.mesh, self.initial_volume, self.span)
+
+    def check(self) -> MoveFailure | None:
         if np.any(signed_volumes(self.mesh) <= 0):
-            self.undo()
             return MoveFailure.INVERTED
-        deposit(self.mesh)
+        y = self.mesh.ngmesh.Coordinates()[:, 1]
+        if y.min() < self.span.low - CROSS or y.max() > self.span.high + CROSS:
+            return MoveFailure.CROSSED_WALL
         return None
 
-    def undo(self) -> None:
-        if self._saved is not None:
-            self.mesh.ngmesh.Coordinates()[:] = self._saved
+    def after_accept(self) -> None:
+        self.correction_abs += abs(self.step_correction)
+        self.correction_net += self.step_correction
+        landed = deposit(self.mesh, self.span)
+        if landed:
+            self.relabelled_segments += landed
+            self._find_surface()
+        super().after_accept()
 
     def volume(self) -> float:
+        """The body's volume now (m^3)."""
         return float(np.sum(signed_volumes(self.mesh)))
 
 
@@ -113,7 +162,7 @@ def surface_volume_gradient(mesh: ngs.Mesh) -> np.ndarray:
     """d(volume)/d(vertex position) from the boundary triangles (divergence theorem: V =
     sum over the outward triangles of a . (b x c) / 6); zero at interior vertices."""
     xyz = mesh.ngmesh.Coordinates()
-    tri, _ = surface_triangles(mesh)
+    tri, _ = boundary_faces(mesh)
     a, b, c = (xyz[tri[:, k]] for k in range(3))
     sign = 1.0 if np.einsum("ij,ij->i", a, np.cross(b, c)).sum() > 0 else -1.0  # outward
     grad = np.zeros_like(xyz)
@@ -122,50 +171,54 @@ def surface_volume_gradient(mesh: ngs.Mesh) -> np.ndarray:
     return grad
 
 
-def restore_volume(mesh: ngs.Mesh, volume: float, planes: ChannelPlanes,
-                   passes: int = 2) -> None:
+def restore_volume(mesh: ngs.Mesh, volume: float, span: ChannelSpan,
+                   passes: int = 2) -> float:
     """Move the free surface's vertices along the volume's gradient (held on the bounding
     planes) until the body has ``volume`` again: the 3D form of the 2D mover's correction
-    of the explicit move's volume drift. Each pass is a Newton step on V(X + lambda g)."""
-    tri, labels = surface_triangles(mesh)
+    of the explicit move's volume drift. Each pass is a Newton step on V(X + lambda g).
+    Returns the relative volume restored."""
+    tri, labels = boundary_faces(mesh)
     free = np.zeros(mesh.nv, dtype=bool)
     free[np.unique(tri[labels == SURFACE])] = True
+    before = float(np.sum(signed_volumes(mesh)))
     for _ in range(passes):
         xyz = mesh.ngmesh.Coordinates()
         grad = surface_volume_gradient(mesh)
         grad[~free] = 0.0
-        grad[planes.held(xyz)] = 0.0
+        grad[span.held(xyz)] = 0.0
         norm2 = float(np.sum(grad * grad))
         if norm2 == 0.0:
-            return
+            break
         xyz += (volume - float(np.sum(signed_volumes(mesh)))) / norm2 * grad
+    return (float(np.sum(signed_volumes(mesh))) - before) / volume
 
 
-def deposit(mesh: ngs.Mesh, tol: float = ON_PLANE) -> int:
-    """Relabel as bed the free-surface triangles whose three vertices lie on the bed
-    (section 3.3, Figure 2, in 3D); the number relabelled. A form with only boundary terms
-    must then be assembled with ``reallocate=True`` (as in 2D)."""
+def deposit(mesh: ngs.Mesh, span: ChannelSpan, tol: float = ON_PLANE) -> int:
+    """Relabel the free-surface triangles whose three vertices lie on one bounding plane
+    with that plane's label (section 3.3, Figure 2, in 3D: on the bed they become bed);
+    the number relabelled. Forms read the labels when they are assembled."""
     names = [mesh.ngmesh.GetBCName(i) for i in range(len(mesh.GetBoundaries()))]
-    if BED not in names:
-        return 0
-    bed = names.index(BED) + 1
     surface = [i + 1 for i, name in enumerate(names) if name == SURFACE]
     faces = mesh.ngmesh.Elements2D().NumPy()
-    z = mesh.ngmesh.Coordinates()[:, 2]
+    xyz = mesh.ngmesh.Coordinates()
     nodes = faces["nodes"][:, :3].astype(np.int64) - 1
-    landed = np.isin(faces["index"], surface) & np.all(z[nodes] < tol, axis=1)
-    faces["index"][landed] = bed
-    return int(np.count_nonzero(landed))
-
-
-LABELS_3D = (BED, WALL, SURFACE, SIDE, SYMMETRY)
+    free = np.isin(faces["index"], surface)
+    count = 0
+    for axis, value, label in span.planes():
+        if label not in names:
+            continue
+        landed = free & np.all(np.abs(xyz[nodes, axis] - value) < tol, axis=1)
+        faces["index"][landed] = names.index(label) + 1
+        free &= ~landed
+        count += int(np.count_nonzero(landed))
+    return count
 
 
 def remesh_from_surface(mesh: ngs.Mesh, size: float) -> ngs.Mesh:
     """A new tetrahedral mesh of the region bounded by ``mesh``'s boundary triangles (kept
     as they are, with their labels), Netgen's volume mesher filling it with edges of about
     ``size``."""
-    tri, labels = surface_triangles(mesh)
+    tri, labels = boundary_faces(mesh)
     used = np.unique(tri)
     renumber = np.full(mesh.nv, -1, dtype=np.int64)
     renumber[used] = np.arange(len(used))

@@ -127,7 +127,9 @@ class StateTransfer:
                                    for e in range(len(self.ends))])
         bubble = ngs.GridFunction(scalar)
         bubble.vec.FV().NumPy()[self.edge_dofs] = 1.0
-        self.bubble_mid = PointLocator(mesh).values(bubble, self.mid)[:, 0]
+        self._clamped_on: ngs.Mesh | None = None
+        self._old: PointLocator | None = None
+        self.bubble_mid = self._values(bubble, mesh, self.mid)[:, 0]
         # (u, v) + xi (u.N, v.N)_walls - (lambda, div v) = (u_old, v), (div u, q) = 0, with
         # the measure and divergence of the coordinates (r-weighted in axisymmetry)
         (u, lam), (v, q) = space.TnT()
@@ -144,9 +146,7 @@ class StateTransfer:
         self._matrix = a       # held with its factorisation for the transfer's lifetime
         self._inverse = a.mat.Inverse(space.FreeDofs(), inverse="umfpack")
         self._projected = ngs.GridFunction(space)
-        self._clamped_on: ngs.Mesh | None = None
         self._clamped_points = (np.empty((0, 2)), np.empty((0, 2)))
-        self._old: PointLocator | None = None
 
     def interpolate_p2(self, target: ngs.GridFunction, at_vertices: np.ndarray,
                        at_mid: np.ndarray) -> None:
@@ -173,14 +173,23 @@ class StateTransfer:
 
     def apply(self, old: ngs.GridFunction, new: ngs.GridFunction) -> None:
         """(u, p) of ``old`` (on the old mesh) onto ``new`` (on this transfer's mesh)."""
-        vertices, mid = self._clamped(old.space.mesh)
-        assert self._old is not None
+        old_mesh = old.space.mesh
+        vertices, mid = self._clamped(old_mesh)
         u_old, p_old = old.components
-        self.interpolate_p2(new.components[0], self._old.values(u_old, vertices),
-                            self._old.values(u_old, mid))
-        new.components[1].vec.FV().NumPy()[: len(vertices)] = self._old.values(
-            p_old, vertices)[:, 0]
+        self.interpolate_p2(new.components[0], self._values(u_old, old_mesh, vertices),
+                            self._values(u_old, old_mesh, mid))
+        new.components[1].vec.FV().NumPy()[: len(vertices)] = self._values(
+            p_old, old_mesh, vertices)[:, 0]
         self.project_divergence_free(new)
+
+    def _values(self, field: ngs.CoefficientFunction, mesh: ngs.Mesh,
+                points: np.ndarray) -> np.ndarray:
+        """``field`` at points inside ``mesh``, located by the mesh walk (the old mesh's
+        locator made once in ``_clamped``); a transfer on tetrahedra locates its own way."""
+        on_old = self._old is not None and mesh is self._clamped_on
+        locator = self._old if on_old else PointLocator(mesh)
+        assert locator is not None
+        return locator.values(field, points)
 
     def _clamped(self, old_mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
         """This mesh's vertices and edge midpoints clamped into ``old_mesh``, and the old

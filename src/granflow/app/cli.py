@@ -46,6 +46,7 @@ from granflow.config import (
 )
 from granflow.config.messages import notes_as_lines
 from granflow.config.schema import FIGURE_FORMATS
+from granflow.fem.mpi import world_rank, world_size
 from granflow.io.checkpoint import CheckpointError
 from granflow.io.run_dir import RunDir, RunDirError
 
@@ -53,7 +54,23 @@ DEFAULT_SCENARIO = "trapezoid-rigid"  # the scenario `granflow run` runs without
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``granflow`` console script; returns the exit code."""
+    """Entry point of the ``granflow`` console script; returns the exit code. Under
+    ``mpiexec`` rank 0 runs the command and the other ranks serve its flow solves
+    (``fem/distributed_flow.py``)."""
+    if world_size() > 1:
+        from granflow.fem.distributed_flow import release, serve
+
+        if world_rank() > 0:
+            serve()
+            return 0
+        try:
+            return _main(argv)
+        finally:
+            release()
+    return _main(argv)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     args = _parser().parse_args(argv)
     try:
         with notes_as_lines():            # each note once, one line

@@ -241,6 +241,8 @@ class Geometry(_Section):
     mass: Points | None  # column: the initial mass as a closed polygon; None = shape
     mass_file: FilePath | None  # column: the same from a CSV or GeoJSON file
     left_wall: bool  # column: a wall at the profile's first point, normal to its first segment
+    dimension: Literal[2, 3]  # 2: a section (plane strain, r-z); 3: a 3D body (docs/three_d.md)
+    half_channel: bool  # 3D column: half the channel meshed, the centre plane a symmetry plane
 
 
 class Gate(_Section):

@@ -8,6 +8,7 @@ import numpy as np
 
 from granflow.fem.sampling import triangles
 from granflow.geometry.mesh import signed_areas
+from granflow.geometry.mesh3d import signed_volumes
 from granflow.geometry.section import Section
 
 
@@ -16,10 +17,12 @@ def mesh_area(mesh: ngs.Mesh) -> float:
     return float(np.sum(signed_areas(mesh)))
 
 
-def mesh_volume(mesh: ngs.Mesh, axisymmetric: bool) -> float:
+def mesh_volume(mesh: ngs.Mesh, axisymmetric: bool, dimension: int = 2) -> float:
     """The body's volume: the area (m^2 per metre of width) in plane strain; in axisymmetry
     the volume of revolution 2 pi sum(area x centroid radius) (m^3), exact for straight
-    triangles (Pappus)."""
+    triangles (Pappus); in 3D the tetrahedra's (m^3)."""
+    if dimension == 3:
+        return float(np.sum(signed_volumes(mesh)))
     if not axisymmetric:
         return mesh_area(mesh)
     xy = mesh.ngmesh.Coordinates()

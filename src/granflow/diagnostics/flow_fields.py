@@ -1,9 +1,10 @@
 """What a VTU snapshot holds of the flow (``io/fields.py`` writes it, reading the flow through
-its ``FlowFields`` protocol): the mesh's vertices and triangles; point data velocity (m/s)
-and pressure (Pa); cell data, the means over each triangle: speed (m/s), the flowing flag
-(speed above 1 mm/s), strain_rate_norm (1/s), effective_viscosity (Pa s), the stress
-stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder) and
-deviatoric_stress_norm (Pa), and yield_ratio (``diagnostics/stress.py``)."""
+its ``FlowFields`` protocol): the mesh's vertices and triangles (tetrahedra in 3D); point
+data velocity (m/s) and pressure (Pa); cell data, the means over each cell: speed (m/s),
+the flowing flag (speed above 1 mm/s), strain_rate_norm (1/s), effective_viscosity
+(Pa s), the stress stress_xx, stress_zz, stress_xz (and stress_hoop for a cylinder; all
+six components in 3D) and deviatoric_stress_norm (Pa), and yield_ratio
+(``diagnostics/stress.py``)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import ngsolve as ngs
 
 from granflow.diagnostics.stress import static_yield_stress, stress_components, yield_ratio
 from granflow.fem.flow import FlowSolver
-from granflow.fem.sampling import cell_means, triangles, vertex_samples
+from granflow.fem.sampling import cell_means, cells, vertex_samples
 from granflow.io.fields import Snapshot
 from granflow.simulation.rest import FLOWING_SPEED
 
@@ -39,7 +40,7 @@ class FlowSnapshot:
         kappa = cell_means(mesh, static_yield_stress(solver.rheology, solver.pressure))[0]
         stress["yield_ratio"] = yield_ratio(stress["deviatoric_stress_norm"], kappa)
         return Snapshot(
-            mesh.ngmesh.Coordinates().copy(), triangles(mesh),
+            mesh.ngmesh.Coordinates().copy(), cells(mesh),
             point_data={"velocity": vertex_samples(mesh, solver.velocity),
                         "pressure": vertex_samples(mesh, solver.pressure)},
             cell_data={"flowing": (speed > FLOWING_SPEED).astype(float), "speed": speed,

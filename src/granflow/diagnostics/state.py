@@ -24,7 +24,7 @@ def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
                    coords: Coordinates = PLANE) -> dict[str, float]:
     """volume, kinetic_energy, max_speed (max cell-mean |u|), flowing_fraction (by area of
     the section). Volume and energy per metre of width in plane strain (m^2, J/m), of the
-    whole body in axisymmetry (m^3, J).
+    whole body in axisymmetry and in 3D (m^3, J).
 
     ``cell_speed`` = (mean |u| per cell, cell areas) when the caller already has them.
     """
@@ -35,7 +35,7 @@ def state_measures(mesh: ngs.Mesh, velocity: ngs.CoefficientFunction,
         energy = 0.5 * density * coords.integrate(velocity * velocity, mesh, order=4)
     flowing = speed > FLOWING_SPEED
     return {
-        "volume": mesh_volume(mesh, coords.axisymmetric),
+        "volume": mesh_volume(mesh, coords.axisymmetric, coords.dimension),
         "kinetic_energy": float(energy),
         "max_speed": float(speed.max()),
         "flowing_fraction": float(areas[flowing].sum() / areas.sum()),

@@ -28,10 +28,18 @@ def static_yield_stress(law: Any, pressure: Any, ops: Ops = NGSOLVE_OPS) -> Any:
 
 def stress_components(solver: FlowSolver) -> dict[str, ngs.CoefficientFunction]:
     """The Cauchy stress sigma = m Du - p Id (Pa): its in-plane components xx, zz, xz (x
-    along the bed, z normal to it; r, z for a cylinder, with the hoop component), and
+    along the bed, z normal to it; r, z for a cylinder, with the hoop component; all six
+    in 3D), and
     |sigma'| = m |Du|, the Frobenius norm of its deviatoric part."""
     du = solver.coordinates.strain_rate(solver.velocity)
     m, p = solver.effective_viscosity(), solver.pressure
+    if solver.coordinates.dimension == 3:      # x along the bed, y across, z normal to it
+        out = {f"stress_{a}{b}": m * du[i, j] - (p if i == j else 0.0)
+               for (i, a), (j, b) in (((0, "x"), (0, "x")), ((1, "y"), (1, "y")),
+                                      ((2, "z"), (2, "z")), ((0, "x"), (1, "y")),
+                                      ((0, "x"), (2, "z")), ((1, "y"), (2, "z")))}
+        out["deviatoric_stress_norm"] = m * solver.strain_rate_norm()
+        return out
     out = {"stress_xx": m * du[0, 0] - p, "stress_zz": m * du[1, 1] - p,
            "stress_xz": m * du[0, 1]}
     if solver.coordinates.axisymmetric:

@@ -12,6 +12,14 @@ def triangles(mesh: ngs.Mesh) -> np.ndarray:
     return mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
 
 
+def cells(mesh: ngs.Mesh) -> np.ndarray:
+    """(ne, 3) zero-based vertex indices of the triangles, or (ne, 4) of the tetrahedra of a
+    3D mesh."""
+    if mesh.dim == 3:
+        return mesh.ngmesh.Elements3D().NumPy()["nodes"][:, :4].astype(np.int64) - 1
+    return triangles(mesh)
+
+
 def vertex_samples(mesh: ngs.Mesh, cf: ngs.CoefficientFunction) -> np.ndarray:
     """Values of ``cf`` at every vertex, shape (nv,) or (nv, dim).
 

@@ -43,11 +43,15 @@ class VtkSeries:
 
     def write(self, t: float, points: np.ndarray, triangles: np.ndarray,
               point_data: dict[str, np.ndarray], cell_data: dict[str, np.ndarray]) -> Path:
+        """A snapshot of a section's triangles (points (n, 2)) or, in 3D, of tetrahedra
+        (``triangles`` (m, 4), points (n, 3))."""
         self.folder.mkdir(parents=True, exist_ok=True)
         name = f"fields_{len(self.entries):05d}.vtu"
-        pts = np.column_stack([points, np.zeros(len(points))])
+        pts = points if points.shape[1] == 3 else np.column_stack([points,
+                                                                   np.zeros(len(points))])
         pdata = {k: _as_3d(v) for k, v in point_data.items()}
-        mesh = meshio.Mesh(pts, [("triangle", triangles)], point_data=pdata,
+        kind = "tetra" if triangles.shape[1] == 4 else "triangle"
+        mesh = meshio.Mesh(pts, [(kind, triangles)], point_data=pdata,
                            cell_data={k: [np.asarray(v)] for k, v in cell_data.items()})
         with atomic_file(self.place(name)) as tmp:
             meshio.write(tmp, mesh, file_format="vtu")

@@ -12,7 +12,10 @@ from granflow.config.scenario_files import builtin_scenarios, scenario_text
 
 BUILT_IN = (("granflow.scenarios.column_rules", "granflow.scenarios.column"),
             ("granflow.scenarios.plug_flow_rules", "granflow.scenarios.plug_flow"),
-            ("granflow.scenarios.slab_rules", "granflow.scenarios.slab"))
+            ("granflow.scenarios.slab_rules", "granflow.scenarios.slab"),
+            # three dimensions (geometry.dimension = 3): the same kinds' rules
+            ("granflow.scenarios.plug_flow_rules", "granflow.scenarios.plug_flow_3d"),
+            ("granflow.scenarios.column_rules", "granflow.scenarios.channel_column"))
 
 for _rules, _builder in BUILT_IN:
     importlib.import_module(_rules)

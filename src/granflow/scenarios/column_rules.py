@@ -18,6 +18,11 @@ from granflow.scenarios.column_geometry_rules import (
     geometry_problems,
     resolve_geometry,
 )
+from granflow.scenarios.three_d_rules import (
+    column_3d_problems,
+    three_d_inert_keys,
+    three_d_problems,
+)
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
@@ -58,6 +63,8 @@ def problems(c: Config) -> Iterator[str]:
                "geometry.kind = 'column' (its free surface must move); "
                "use 'elastic' (3.6) or 'lagrange' (3.7)")
     yield from _axisymmetric_problems(c)
+    yield from three_d_problems(c)
+    yield from column_3d_problems(c)
     builtin = g.mass is None and g.mass_file is None     # (a user's mass: no shape)
     if (builtin and g.shape == "trapezoid"
             and front_run(g.height, g.front_angle_deg) >= g.width):
@@ -123,7 +130,7 @@ def inert_keys(c: Config) -> dict[str, str]:
     if c.material.rheology == "nonlocal":
         add("initial.fluidity", "a column starts at rest (g = 0); it sets a periodic layer's "
             "initial fluidity")
-    return out | geometry_inert_keys(c)
+    return out | geometry_inert_keys(c) | three_d_inert_keys(c, column=True)
 
 
 def triangles(c: Config) -> tuple[float, float]:

@@ -97,7 +97,9 @@ def flow_spec(config: Config, materials: RunMaterials, layout: Layout) -> FlowSp
     gravity = gravity_vector_3d if layout.coordinates.dimension == 3 else gravity_vector
     terms = Terms(body_force=gravity(mat.gravity, config.geometry.slope_deg),
                   walls=layout.walls, penalty=config.boundary.penalty,
-                  side_walls=build_side_walls(config),
+                  # in 3D the channel's side walls are boundaries of the mesh (its walls)
+                  side_walls=(build_side_walls(config) if layout.coordinates.dimension == 2
+                              else None),
                   surface_tension_on=layout.surface if st.enabled else "")
     discretisation = Discretisation(layout.coordinates, layout.periodic, layout.dirichlet,
                                     layout.axis, config.time.scheme)

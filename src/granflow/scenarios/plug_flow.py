@@ -115,7 +115,8 @@ class PlugFlow:
     def share(self) -> Share:
         """What the members of ``save_state`` may be (in a checkpoint): its parts' shares."""
         return {"fields": record(self.solver.history_share()),
-                "coordinates": array(self.mesh.nv, 2), **self.simulation.callbacks.shares()}
+                "coordinates": array(self.mesh.nv, self.mesh.dim),
+                **self.simulation.callbacks.shares()}
 
     def restore_state(self, state: dict[str, Any]) -> None:
         assign(self.mesh.ngmesh.Coordinates(), state["coordinates"], "the saved vertices")

@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from granflow.config.kinds import KindRules, register_rules
+from granflow.scenarios.three_d_rules import layer_3d_problems, three_d_inert_keys, three_d_problems
 
 if TYPE_CHECKING:
     from granflow.config.schema import ConfigModel as Config
@@ -33,6 +34,8 @@ def problems(c: Config) -> Iterator[str]:
     if c.numerics.mesh_velocity in ("elastic", "lagrange"):
         yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
                "geometry.kind = 'periodic-layer'; use 'fixed' or 'vertical'")
+    yield from three_d_problems(c)
+    yield from layer_3d_problems(c)
 
 
 def inert_keys(c: Config) -> dict[str, str]:
@@ -65,7 +68,7 @@ def inert_keys(c: Config) -> dict[str, str]:
     add("geometry.bed_profile geometry.bed_profile_file geometry.mass geometry.mass_file "
         "geometry.left_wall gate.enabled gate.speed_law gate.speed gate.tau gate.friction_deg",
         column)
-    return out
+    return out | three_d_inert_keys(c, column=False)
 
 
 def triangles(c: Config) -> tuple[float, float]:

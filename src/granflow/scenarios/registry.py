@@ -60,12 +60,16 @@ class ProblemKind:
 
 
 KINDS: dict[str, ProblemKind] = {}
+# the kinds in three dimensions (``geometry.dimension = 3``), each in its own modules
+KINDS_3D: dict[str, ProblemKind] = {}
 
 
-def register(name: str, build: Builder, figures: Sequence[Figure] = ()) -> ProblemKind:
-    """Make ``build`` the builder of ``geometry.kind = name`` and ``figures`` its figures."""
+def register(name: str, build: Builder, figures: Sequence[Figure] = (),
+             dimension: int = 2) -> ProblemKind:
+    """Make ``build`` the builder of ``geometry.kind = name`` (in ``dimension``) and
+    ``figures`` its figures."""
     kind = ProblemKind(name, build, tuple(figures))
-    KINDS[name] = kind
+    (KINDS_3D if dimension == 3 else KINDS)[name] = kind
     return kind
 
 
@@ -75,24 +79,31 @@ def _load_built_in() -> None:
         importlib.import_module(builder)
 
 
-def problem_kind(name: str) -> ProblemKind:
-    """The registered kind ``name``."""
+def problem_kind(name: str, dimension: int = 2) -> ProblemKind:
+    """The registered kind ``name`` (in ``dimension``)."""
     _load_built_in()
-    if name not in KINDS:
-        raise ValueError(f"geometry.kind = {name!r} is not a registered problem kind; "
-                       f"known: {', '.join(sorted(KINDS))}")
-    return KINDS[name]
+    kinds = KINDS_3D if dimension == 3 else KINDS
+    if name not in kinds:
+        raise ValueError(f"geometry.kind = {name!r} is not a registered problem kind"
+                         f"{' in 3D' if dimension == 3 else ''}; "
+                         f"known: {', '.join(sorted(kinds))}")
+    return kinds[name]
+
+
+def kind_of(config: Config) -> ProblemKind:
+    """The registered kind of ``config`` (its geometry.kind, in its geometry.dimension)."""
+    return problem_kind(config.geometry.kind, config.geometry.dimension)
 
 
 def build_problem(config: Config) -> Problem:
     """The problem of ``config``, built by its kind's builder."""
-    return problem_kind(config.geometry.kind).build(config)
+    return kind_of(config).build(config)
 
 
 def draw_figures(run_dir: RunDir, config: Config) -> None:
     """Every figure of the run in ``run_dir`` into plots/, in ``output.figure_format`` at
     ``output.dpi``: its kind's figures, each from the files."""
-    for figure in problem_kind(config.geometry.kind).figures:
+    for figure in kind_of(config).figures:
         figure(run_dir, config)
 
 

@@ -32,6 +32,9 @@ def problems(c: Config) -> Iterator[str]:
         yield (f"numerics.mesh_velocity = {c.numerics.mesh_velocity!r} is not available for "
                "geometry.kind = 'slab' (a flow uniform along the bed does not move its "
                "surface); use 'fixed'")
+    if c.geometry.dimension == 3:
+        yield ("geometry.dimension = 3 is not available for geometry.kind = 'slab' (a "
+               "section's layer); use 2")
 
 
 def inert_keys(c: Config) -> dict[str, str]:
