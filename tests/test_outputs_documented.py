@@ -28,6 +28,7 @@ CASES = {
     "mu(I)": ("rectangle-rigid", {"mesh.size": 0.04, "material.rheology": "mu-i",
                                   "material.preset": "glass-beads"}),
     "erodible cylinder": ("cylinder-erodible", {"mesh.size": 0.04}),
+    "packing": ("rectangle-rigid", {"mesh.size": 0.04, "material.packing": "critical-state"}),
     "periodic layer": ("plug-flow", {"time.t_end": 0.02, "time.output_times": [0.02],
                                      "time.stop_at_rest": None}),
 }

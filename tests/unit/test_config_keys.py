@@ -52,6 +52,7 @@ ALTERNATIVE = {
     "mesh.layer_ahead": 0.1,
     "layer.grain_diameter": 1e-8, "material.grain_diameter": 1e-8,   # any creep is "displaced"
     "material.initial_mobilisation": 0.5, "layer.friction": '"hysteretic"',
+    "layer.packing": '"critical-state"', "material.packing_slope": 0.2,
     "numerics.anderson_depth": 0,   # a few steps never fill a history deeper than three
     "material.fluidity_time": 0.01,   # its only other literal is the current "inertial"
     "initial.fluidity": 0.5,
@@ -69,6 +70,8 @@ CONTEXT = {   # both runs: failing solves, so that the failure remesh has someth
     # the glass-bead preset's constants for Drucker-Prager are the defaults; for mu(I) it
     # sets the angle that goes with mu_2 and I0 (20.9 degrees instead of 25.5)
     "material.preset": ['material.rheology="mu-i"'],
+    # a flow at rest at the start may step up to dt_max_slow: dt_max caps it without one
+    "time.dt_max": ['time.dt_max_slow="none"'],
 }
 # Keys whose effect needs a run to rest or a fold that releases: a few steps cannot show
 # it, so a test of the part they drive shows it instead (named here).
@@ -79,6 +82,9 @@ ELSEWHERE = {
     "time.stop_at_rest": "tests/verification/test_collapse.py (the stalled column stops)",
     "output.figure_format": "tests/test_figures.py (the figures' files)",   # figures are
     "output.dpi": "tests/test_figures.py (the figures' files)",   # not drawn here (fixture)
+    # the cap rises only once the flow is slow and the controller's steps have grown to it
+    "time.dt_max_slow": "tests/unit/test_timestep.py (the slow flow's cap)",
+    "time.slow_courant": "tests/unit/test_timestep.py (the slow flow's cap)",
 }
 
 

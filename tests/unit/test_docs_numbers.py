@@ -68,6 +68,19 @@ def _compatible_extra(case: str) -> Callable[[Any], float]:
     return lambda data: data[case]["ratio_compatible_to_auto"]["cpu_s"] - 1
 
 
+PACKING = "packing/validation.json"
+PACKING_COST = "packing/cost.json"
+
+
+def _step_cost(case: str) -> Callable[[Any], float]:
+    """The median over the pairs of a case's processor seconds per step."""
+    def value(data: Any) -> float:
+        costs = sorted(p[case]["cpu_s"] / p[case]["steps"] for p in data["pairs"])
+        middle = len(costs) // 2
+        return costs[middle] if len(costs) % 2 else (costs[middle - 1] + costs[middle]) / 2
+    return value
+
+
 def _front_moved(data: Any) -> float:
     """How far (m) the 3D rectangle's front has moved by the last row."""
     return data["rows"][-1]["front_x"] - data["rows"][0]["front_x"]
@@ -328,6 +341,26 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _late_step_cost, ".0f", 1),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
+    # --- the packing fraction (benchmarks/packing.py)
+    ("docs/verification.md", "runouts 0.4250 / {} m", PACKING, "rows.dense.runout_m",
+     ".4f", 1),
+    ("docs/verification.md", "at rest at 0.569 / {} s", PACKING, "rows.dense.stop_time_s",
+     ".3f", 1),
+    ("docs/verification.md", "runs 0.4250 and {} m", PACKING, "rows.dense.runout_m",
+     ".4f", 1),
+    ("docs/verification.md", "(incompressible {} m)", PACKING,
+     "rows.incompressible.runout_m", ".4f", 1),
+    ("docs/verification.md", "at 0.569 and {} s", PACKING, "rows.dense.stop_time_s",
+     ".3f", 1),
+    ("docs/verification.md", "({} s), its volume", PACKING,
+     "rows.incompressible.stop_time_s", ".3f", 1),
+    ("docs/verification.md", "-1.85 % and +{} %", PACKING,
+     "rows.dense.volume_relative_error", ".2f", 100),
+    ("docs/verification.md", "the dense rectangle to {} s", PACKING_COST, "t_end", ".2f", 1),
+    ("docs/verification.md", "x 1.23 ({} s against", PACKING_COST, _step_cost("dense"),
+     ".4f", 1),
+    ("docs/verification.md", "s against {} s, load", PACKING_COST,
+     _step_cost("incompressible"), ".4f", 1),
     # --- the erodible bed on the user's clock (benchmarks/erodible_speed.py and py-spy)
     ("docs/performance.md", "the tracking fell from {} % to",
      "profile_shares/trapezoid-erodible-284e367.json", "shares.erodible layer tracking",

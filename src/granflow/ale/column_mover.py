@@ -17,6 +17,7 @@ free surface (``geometry/gate.py``).
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable
 from typing import ClassVar
 
 import ngsolve as ngs
@@ -61,14 +62,30 @@ from granflow.state.spec import (
 )
 
 CROSS = 1e-12   # m: a node this far beyond the bed or a wall has crossed it
+MASS_FIXES = 8   # rounds of the free-surface fix at most when it conserves a mass (below)
 STRADDLE = 1e-5   # a bed edge this far (x the bed's extent) from a corner it spans: remesh
 
 
+def _no_excess(xy: np.ndarray) -> float:
+    return 0.0
+
+
 class ColumnMover(AleMover):
-    """AleMover with the deposition procedure and an optional area-conserving correction."""
+    """AleMover with the deposition procedure and an optional conserving correction.
+
+    The correction moves the free surface so that the section's measure (the area, or
+    the revolved volume) plus ``excess(xy)`` keeps its initial value: the measure itself
+    for an incompressible flow (``excess`` = 0); with a packing fraction, the mass, the
+    measure it would fill at its initial packing (``Coupling.volume_excess``). The excess
+    moves a little with the surface cells, so the fix is repeated until its target stops
+    changing (one round when the excess is 0). A packing that changed over the accepted
+    step (or in a remesh's transfer) changes the excess: the fix is applied again to the
+    accepted state then, so that every accepted state holds the initial mass; the target
+    of an incompressible flow never changes, and its runs are the paper's."""
 
     share: ClassVar[Share] = {       # its share of a checkpoint (``save_state``)
-        "initial_area": number(0.0, above=True), "clock": may_lack(TIME),
+        "initial_area": number(0.0, above=True), "initial_excess": may_lack(REAL),
+        "clock": may_lack(TIME),
         "gate_opened": may_lack(COUNT), "relabelled_segments": COUNT, "limited_steps": COUNT,
         "velocity_solves": COUNT, "correction_abs": REAL, "correction_net": REAL,
         "tension": or_none(dataclass_of(TensionState))}
@@ -78,7 +95,8 @@ class ColumnMover(AleMover):
                  extrapolate: bool = False, conserve_volume: bool = True,
                  tension: SurfaceTension | None = None,
                  measure: PolygonMeasure = AREA, support: Support = LEVEL,
-                 gate: Gate | None = None, gate_speed: ngs.Parameter | None = None) -> None:
+                 gate: Gate | None = None, gate_speed: ngs.Parameter | None = None,
+                 excess: Callable[[np.ndarray], float] = _no_excess) -> None:
         super().__init__(mesh, velocity_solver, source, flow, target, extrapolate)
         self.chain = BoundaryChain(mesh)
         self.tension = tension
@@ -92,6 +110,8 @@ class ColumnMover(AleMover):
         self.conserve_volume = conserve_volume
         self.measure = measure      # the area, or the revolved volume in axisymmetry
         self.initial_area = measure.size(mesh.ngmesh.Coordinates(), self.chain.segments)
+        self.excess = excess
+        self.initial_excess = excess(mesh.ngmesh.Coordinates())
         self.landed: np.ndarray = np.empty(0, dtype=np.int64)
         self.relabelled_segments = 0
         self.limited_steps = 0
@@ -101,16 +121,22 @@ class ColumnMover(AleMover):
         # the volume fix: relative area restored at the last move, and summed over the run
         # (|.| and signed), so that a volume error of 0 by construction says what it cost
         self.step_correction = 0.0
+        self._fixed_to: float | None = None   # the target of the step's fix
         self.correction_abs = 0.0
         self.correction_net = 0.0
 
     def inherit(self, other: ColumnMover) -> None:
-        """Carry the reference area, the counters and the tension switch over a remesh."""
+        """Carry the reference area, the counters and the tension switch over a remesh;
+        the mass of a packing that the transfer changed is restored on the new mesh."""
         self.restore_state(other.save_state())
+        xy = self.mesh.ngmesh.Coordinates()
+        if self.conserve_volume and self.excess(xy) != 0.0:
+            self._conserve(xy, self._movable(np.empty(0, dtype=np.int64)))
 
     def save_state(self) -> dict[str, object]:
         """Reference area, counters and the surface-tension switch (for a checkpoint)."""
-        return {"initial_area": self.initial_area, "clock": self.clock,
+        return {"initial_area": self.initial_area, "initial_excess": self.initial_excess,
+                "clock": self.clock,
                 "gate_opened": self.gate_opened,
                 "relabelled_segments": self.relabelled_segments,
                 "limited_steps": self.limited_steps, "velocity_solves": self.velocity_solves,
@@ -122,6 +148,7 @@ class ColumnMover(AleMover):
                     "correction_abs", "correction_net"):
             setattr(self, key, state[key])
         self.clock = float(state.get("clock", 0.0))      # type: ignore[arg-type]
+        self.initial_excess = float(state.get("initial_excess", 0.0))  # type: ignore[arg-type]
         self.gate_opened = int(state.get("gate_opened", 0))   # type: ignore[call-overload]
         if self.tension is not None and state["tension"] is not None:
             self.tension.state = copy.deepcopy(state["tension"])  # type: ignore[assignment]
@@ -199,11 +226,35 @@ class ColumnMover(AleMover):
             pinned = np.union1d(np.union1d(bed, wall), np.union1d(end, self.landed))
             pinned = np.union1d(pinned, gate)
             movable = np.setdiff1d(self.chain.free_vertices(), pinned)
-            self.step_correction = conserve_area(xy, self.chain.segments, movable,
-                                                 self.initial_area, measure=self.measure)
+            self.step_correction = self._conserve(xy, movable)
         if self.tension is not None:
             self._tension_accepted = copy.copy(self.tension.state)   # scalars only
             self.tension.update(self.chain.surface_chains(), self.pressure_under)
+
+    def _movable(self, landed: np.ndarray) -> np.ndarray:
+        """The surface vertices the fix may move: none on the bed, a wall, the layer's
+        end or the gate, nor one landing on the bed in this step."""
+        pinned = np.union1d(np.union1d(self._on_bed(), self._on_wall()),
+                            np.union1d(self._on_end(), landed))
+        return np.setdiff1d(self.chain.free_vertices(), np.union1d(pinned, self._on_gate()))
+
+    def _target(self, xy: np.ndarray) -> float:
+        """The measure the fix restores with the vertices at ``xy`` (class docstring)."""
+        return self.initial_area + (self.initial_excess - self.excess(xy))
+
+    def _conserve(self, xy: np.ndarray, movable: np.ndarray) -> float:
+        """The free-surface fix (class docstring): the relative change of the measure it
+        applied, summed over its rounds."""
+        applied, target = 0.0, None
+        for _ in range(MASS_FIXES):
+            wanted = self._target(xy)
+            if wanted == target:
+                break
+            target = wanted
+            applied += conserve_area(xy, self.chain.segments, movable, target,
+                                     measure=self.measure)
+        self._fixed_to = target
+        return applied
 
     def undo(self) -> None:
         """Back to the accepted mesh, and the surface tension's switch with it: a retry
@@ -263,6 +314,11 @@ class ColumnMover(AleMover):
         return None
 
     def after_accept(self) -> None:
+        xy = self.mesh.ngmesh.Coordinates()
+        if self.conserve_volume and self._fixed_to is not None and (
+                self._target(xy) != self._fixed_to):      # the packing changed in the step
+            self.step_correction += self._conserve(xy, self._movable(self.landed))
+        self._fixed_to = None
         self.correction_abs += abs(self.step_correction)
         self.correction_net += self.step_correction
         if self.tension is not None and self.tension.state.active:

@@ -14,7 +14,7 @@ from granflow.config.cost import cost_problems
 from granflow.config.kinds import erodible_layer, rules_of
 from granflow.config.messages import fmt_value
 from granflow.config.schema import SECTIONS, MaterialKeys
-from granflow.physics.laws import all_laws, keys_read, laws_of
+from granflow.physics.laws import all_laws, described, keys_read, laws_of, selecting_key
 from granflow.physics.laws import checks as law_checks
 
 if TYPE_CHECKING:
@@ -69,6 +69,10 @@ def problems(c: Config) -> Iterator[str]:
         yield (f"numerics.method = 'augmented-lagrangian' needs material.rheology = "
                f"'drucker-prager' (not {mat.rheology!r})")
     if c.numerics.method == "augmented-lagrangian" and any(
+            m.packing != "none" for m in _materials(c).values()):
+        yield ("numerics.method = 'augmented-lagrangian' needs an incompressible material "
+               "(packing = 'none'); use 'regularized' with packing = 'critical-state'")
+    if c.numerics.method == "augmented-lagrangian" and any(
             m.friction != "constant" for m in _materials(c).values()):
         yield ("numerics.method = 'augmented-lagrangian' needs a constant friction; use "
                "'regularized' with friction = " + repr(next(
@@ -105,8 +109,9 @@ def _one_field_problems(c: Config) -> Iterator[str]:
     for law in all_laws():
         users = [s for s, m in materials.items() if law in laws_of(m)]
         if law.one_field and len(users) == 1:
-            yield (f"layer.rheology = {materials['layer'].rheology!r} beside material.rheology "
-                   f"= {c.material.rheology!r}: a material that follows {law.described} "
+            key = selecting_key(law)
+            yield (f"layer.{key} = {getattr(materials['layer'], key)!r} beside material.{key} "
+                   f"= {getattr(c.material, key)!r}: a material that follows {law.described} "
                    "needs the other one to follow it too (one field crosses the interface); "
                    "set both or neither")
 
@@ -117,14 +122,13 @@ def _law_inert_keys(c: Config, add: Callable[[str, str], None]) -> None:
     and the grains' keys where no law reads them (grain_diameter is also, over an erodible
     layer, the distance that counts as displaced)."""
     materials = _materials(c)
-    named = ", ".join(f"{s}.rheology = {m.rheology!r}" + (
-        f" with friction = {m.friction!r}" if m.friction != "constant" else "")
-        for s, m in materials.items())
+    named = ", ".join(f"{s}.{described(m)}" for s, m in materials.items())
     read = {k for m in materials.values() for k in keys_read(m)}
     used = {law.name for m in materials.values() for law in laws_of(m)}
     layer = materials.get("layer")
     for law in all_laws():
-        why = f"it is a parameter of {law.described}, and {named}"
+        why = (f"it is a parameter of {law.described} ({selecting_key(law)} = "
+               f"{law.name!r}), and {named}")
         if law.name not in used:
             add(" ".join(f"material.{k}" for k in law.keys if k not in read), why)
             add(" ".join(law.settings), why)
@@ -158,6 +162,9 @@ def inert_keys(c: Config) -> dict[str, str]:
             add("time.adaptive", "time.dt sets a fixed step; unset it for adaptive steps")
     elif t.adaptive:
         add("time.dt_growth numerics.tol_init", "time.adaptive = true (no ramp)")
+        if t.dt_max_slow is None or t.dt_max_slow <= t.dt_max:
+            add("time.slow_courant", "time.dt_max_slow is unset or at most time.dt_max: "
+                "the step's cap stays time.dt_max")
     else:
         add("time.error_tol time.error_floor time.dt_max_slow time.slow_courant",
             "time.adaptive = false")

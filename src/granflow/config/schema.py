@@ -2,7 +2,8 @@
 
 Each field's type and bounds are the single statement of what a key accepts: the loader
 validates with them and the messages and the parameters page read them back. The keys a law
-alone reads, and the names ``material.rheology`` and ``material.friction`` accept, are the
+alone reads, and the names ``material.rheology``, ``material.friction`` and
+``material.packing`` accept, are the
 laws' registrations (``physics/laws.py``): ``law_sections`` makes ``[material]`` and
 ``[layer]`` from them, again when a law registers later (the loader asks first).
 """
@@ -142,6 +143,7 @@ class MaterialKeys(_Section):
                                            le=10)]  # d (m)
     grain_density: Annotated[float, Field(ge=1, le=1e5)]  # rho_s (kg/m^3)
     friction: str  # a registered friction's name
+    packing: str  # a registered packing's name
 
     @property
     def mu_s(self) -> float:
@@ -168,6 +170,7 @@ class LayerKeys(_Section):
                                            le=10)] | None  # m
     grain_density: Annotated[float, Field(ge=1, le=1e5)] | None  # kg/m^3
     friction: str | None
+    packing: str | None
 
 
 def _key_type(key: laws.Key) -> Any:
@@ -184,14 +187,16 @@ def _material_model() -> type[MaterialKeys]:
     own = {k: (_key_type(spec), spec.default) for k, spec in laws.law_keys().items()}
     return create_model("Material", __base__=MaterialKeys,   # type: ignore[no-any-return]
                         rheology=(_names(laws.RHEOLOGIES), ...),
-                        friction=(_names(laws.FRICTIONS), ...), **own)
+                        friction=(_names(laws.FRICTIONS), ...),
+                        packing=(_names(laws.PACKINGS), ...), **own)
 
 
 def _layer_model() -> type[LayerKeys]:
     own = {k: (_key_type(spec) | None, None) for k, spec in laws.law_keys().items()}
     return create_model("Layer", __base__=LayerKeys,   # type: ignore[no-any-return]
                         rheology=(_names(laws.RHEOLOGIES) | None, ...),
-                        friction=(_names(laws.FRICTIONS) | None, ...), **own)
+                        friction=(_names(laws.FRICTIONS) | None, ...),
+                        packing=(_names(laws.PACKINGS) | None, ...), **own)
 
 
 def _law_floors() -> None:

@@ -8,7 +8,9 @@ mobilisation, the share of layer material). Once the flow's spaces exist it may 
 the forms of (3.2): replace the stress term (the augmented Lagrangian's), add terms
 (``terms``: a source in the continuity row, say), add a correction to the fixed-point
 matrix (the primal-dual one), replace the step's iteration (ALG2), and ``bind`` to the
-flow's fields (u, p and the mesh velocity w). Through a run it is stepped with the flow:
+flow's fields (u, p and the mesh velocity w). A field that makes the flow compressible also
+says what the free-surface fix must conserve beside the section's area (``volume_excess``:
+the packing fraction's mass). Through a run it is stepped with the flow:
 at the start of a step, with every iterate of the nonlinear solve (``iterates``), on
 acceptance and on rejection; it gives and takes its share of the checkpoint, carries
 itself onto a new mesh (``inherit``) and forgets its factorisations. ``FlowSolver``
@@ -24,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.fem.forms import StressTerm, Term
 from granflow.fem.measure import Coordinates
@@ -37,11 +40,12 @@ Iteration = Callable[[float, int, float], IterationReport]      # (tol, max, vel
 @dataclass(frozen=True)
 class Carriers:
     """How a remesh moves fields onto the new mesh (``ale/transfer.py``): a Taylor-Hood
-    state, a discontinuous tensor field, a continuous P1 field."""
+    state, a discontinuous tensor field, a continuous P1 field, a piecewise constant one."""
 
     state: Carry
     tensor: Carry
     vertices: Carry
+    cells: Carry
 
 
 @dataclass(frozen=True)
@@ -112,6 +116,13 @@ class Coupling:
 
     def reject(self) -> None:
         """Back to the state at the start of the rejected step."""
+
+    def volume_excess(self, xy: np.ndarray) -> float:
+        """What the free-surface fix conserves beside the section's measure, with the
+        vertices at ``xy`` (``ale/column_mover.py``): the measure the mass would fill at
+        a reference density less the section's, or 0 (an incompressible flow: the measure
+        alone)."""
+        return 0.0
 
     # --- checkpoint, remesh, factorisations --------------------------------------------------
     def share(self) -> Share:

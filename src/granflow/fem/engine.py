@@ -17,7 +17,8 @@ ngs.SetNumThreads(1)
 # only time NGSolve's own profile, which granflow does not read).
 pyngcore.SetLoggingLevel(pyngcore.LOG_LEVEL.Error)
 
-NGSOLVE_OPS = Ops(sqrt=ngs.sqrt, positive_part=lambda a: ngs.IfPos(a, a, 0.0))
+NGSOLVE_OPS = Ops(sqrt=ngs.sqrt, positive_part=lambda a: ngs.IfPos(a, a, 0.0),
+                  maximum=lambda a, b: ngs.IfPos(a - b, a, b))
 
 
 def read_on_walls(law: Rheology) -> Rheology:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.fem.coupling import Carriers, Coupling, Iteration
 from granflow.fem.engine import NGSOLVE_OPS
@@ -253,6 +254,11 @@ class FlowSolver:
         self.nonlinear.reset_factorisations()
         for coupling in self.couplings:
             coupling.reset_factorisation()
+
+    def volume_excess(self, xy: np.ndarray) -> float:
+        """What the free-surface fix conserves beside the section's measure, each
+        coupling's (``Coupling.volume_excess``; 0 for an incompressible flow)."""
+        return sum((c.volume_excess(xy) for c in self.couplings), 0.0)
 
     # --- read-only measures of the accepted state -------------------------------------
     def volume(self) -> float:

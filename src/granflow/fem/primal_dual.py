@@ -31,7 +31,7 @@ lambda lives at the quadrature points of the viscoplastic term (the three edge m
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -156,14 +156,11 @@ class DualVariable:
         self.gamma.set(((alpha * self._du_k) @ WEIGHTS + slope * self._p_k)[:, None] * lam)
 
     def _yield_slope(self) -> float | np.ndarray:
-        """kappa / [p]_+ = sqrt(2) mu (2.4): one number, or per point for a column over a
-        layer of another Drucker-Prager material (blended with the triangles' fractions)
-        or a hysteretic friction (blended with the triangles' mobilisation)."""
-        slope = _yield_slope(self.rheology)
-        if np.ndim(slope) == 0:
-            return slope
-        assert len(self._p_k) == 3 * len(slope)     # 3 points per triangle
-        return np.repeat(slope, 3)
+        """kappa / [p]_+ = sqrt(2) mu (2.4) at the quadrature points: one number, or per
+        point for a column over a layer of another Drucker-Prager material (blended with
+        the triangles' fractions), a hysteretic friction (blended with the triangles'
+        mobilisation) or a packing's friction tan(psi) (at the iterate)."""
+        return _yield_slope(self.rheology, lambda: (self._du_k**2) @ WEIGHTS, self._p_k)
 
     def _at_points(self, vec: ngs.BaseVector) -> tuple[np.ndarray, np.ndarray]:
         """(xx, xy, yy) of Du and p at the quadrature points, from a (u, p) vector."""
@@ -175,9 +172,14 @@ class DualVariable:
         return out[:, :3], out[:, 3]
 
 
-def _yield_slope(law: Rheology) -> float | np.ndarray:
-    """sqrt(2) mu of a Drucker-Prager law, or per triangle of a blended one."""
-    return blended(law, _drucker_prager_slope, cell_share)  # type: ignore[no-any-return]
+def _yield_slope(law: Rheology, strain_rate_sq: Callable[[], np.ndarray],
+                 pressure: np.ndarray) -> float | np.ndarray:
+    """sqrt(2) mu of a Drucker-Prager law, or per quadrature point (three per triangle) of
+    a blended one; a law wrapping another (a packing's) adds its friction at the points
+    (``yield_slope_extra`` at |Du|^2 and p), the total kept at least 0."""
+    return np.maximum(blended(  # type: ignore[no-any-return]
+        law, _drucker_prager_slope, lambda composite: np.repeat(cell_share(composite), 3),
+        added=lambda wrapper: wrapper.yield_slope_extra(strain_rate_sq(), pressure)), 0.0)
 
 
 def _drucker_prager_slope(law: Rheology) -> float:
@@ -186,8 +188,9 @@ def _drucker_prager_slope(law: Rheology) -> float:
 
 
 def drucker_prager(law: Rheology) -> bool:
-    """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer, or
-    with a hysteretic friction: what the primal-dual correction is built for."""
+    """The Drucker-Prager law (2.13), alone, as both materials of a column over a layer,
+    with a hysteretic friction or a packing's: what the primal-dual correction is built
+    for."""
     return all(isinstance(part, DruckerPrager) for part in simple_laws(law))
 
 

@@ -7,8 +7,9 @@ from granflow.physics.hysteresis import Hysteretic
 from granflow.physics.mu_i import MuI
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
 from granflow.physics.ops import NUMPY_OPS, Ops
+from granflow.physics.packing import CriticalState, Dilatant
 from granflow.physics.rheology import DruckerPrager, Rheology
 
-__all__ = ["NUMPY_OPS", "CoulombFriction", "DruckerPrager", "Hysteretic", "MuI",
-           "NonlocalFluidity", "Ops", "Rheology", "SideWallFriction", "gravity_vector",
-           "gravity_vector_3d"]
+__all__ = ["NUMPY_OPS", "CoulombFriction", "CriticalState", "Dilatant", "DruckerPrager",
+           "Hysteretic", "MuI", "NonlocalFluidity", "Ops", "Rheology", "SideWallFriction",
+           "gravity_vector", "gravity_vector_3d"]

@@ -1,6 +1,7 @@
 """The laws as a configuration names them. Each law registers whole, at the end of its own
-module: the value that selects it (``material.rheology``, or ``material.friction`` for a
-friction that wraps the flow law), the keys of ``[material]`` (and ``[layer]``) that only it
+module: the value that selects it (``material.rheology``, ``material.friction`` for a
+friction that wraps the flow law, or ``material.packing`` for a packing fraction that wraps
+both and sets the bulk density), the keys of ``[material]`` (and ``[layer]``) that only it
 reads with their types, ranges, defaults and meaning (``Key``), the other keys it reads, its
 checks of one material and how it is built from a material's keys; a 1D reference of a
 periodic layer, where it has one, is attached to it by the reference's module
@@ -23,14 +24,16 @@ from typing import Any
 @dataclass(frozen=True)
 class LawFields:
     """The fields a law may read where it is evaluated: the nonlocal fluidity g, the
-    mobilisation s of a hysteretic friction and s per triangle, and the share of layer
-    material per triangle that blends two materials (engine objects or numbers; the fields
-    coupled to the flow hand them, ``fem/coupling.py``)."""
+    mobilisation s of a hysteretic friction and s per triangle, the share of layer
+    material per triangle that blends two materials, and the packing fraction's departure
+    from each material's initial packing per triangle (engine objects or numbers; the
+    fields coupled to the flow hand them, ``fem/coupling.py``)."""
 
     fluidity: Any = 0.0
     mobilisation: Any = 0.0
     per_triangle: Any = None
     share: Any = None
+    packing: Any = None
 
 
 @dataclass(frozen=True)
@@ -57,13 +60,15 @@ def _no_checks(material: Any, section: str, eps: float) -> Iterator[str]:
 
 @dataclass(frozen=True)
 class Law:
-    """A flow law (``build(material, eps, fields)``) or a friction that wraps one
-    (``build(material, eps, fields, flow)``): its own keys, the keys of other laws or of
+    """A flow law (``build(material, eps, fields)``), or a friction or a packing that wraps
+    one (``build(material, eps, fields, flow)``): its own keys, the keys of other laws or of
     every material it also reads (``reads``), the keys of other sections only it uses
     (``settings``, "section.key"), its checks of a material (``checks(material, section,
     eps)``, eps the regularisation of (2.13)), whether its field crosses the interface of
-    two materials (``one_field``: both must follow it), how messages name it (``words``)
-    and its 1D reference of a periodic layer (attached by ``register_reference``)."""
+    two materials (``one_field``: both must follow it), how messages name it (``words``),
+    the bulk density it gives a material (``density(material, fields)``; None:
+    ``material.density``) and its 1D reference of a periodic layer (attached by
+    ``register_reference``)."""
 
     name: str
     keys: Mapping[str, Key]
@@ -73,6 +78,7 @@ class Law:
     settings: tuple[str, ...] = ()
     one_field: bool = False
     words: str = ""
+    density: Callable[[Any, LawFields], Any] | None = None
     reference: Any = field(default=None, compare=False)
 
     @property
@@ -82,6 +88,7 @@ class Law:
 
 RHEOLOGIES: dict[str, Law] = {}     # by material.rheology
 FRICTIONS: dict[str, Law] = {}      # by material.friction
+PACKINGS: dict[str, Law] = {}       # by material.packing
 REGISTERED = [0]   # registrations so far: the configuration's schema follows their count
 
 
@@ -103,20 +110,43 @@ def register_friction(law: Law) -> Law:
     return _register(FRICTIONS, law)
 
 
+def register_packing(law: Law) -> Law:
+    return _register(PACKINGS, law)
+
+
 def register_reference(name: str, reference: Any) -> None:
     """Attach a 1D reference of a periodic layer to the law registered as ``name``."""
-    table = RHEOLOGIES if name in RHEOLOGIES else FRICTIONS
+    table = next(t for t in (RHEOLOGIES, FRICTIONS, PACKINGS) if name in t)
     table[name] = dataclasses.replace(table[name], reference=reference)
 
 
+def selecting_key(law: Law) -> str:
+    """The key of a material that selects ``law``: rheology, friction or packing."""
+    for key, table in (("rheology", RHEOLOGIES), ("friction", FRICTIONS),
+                       ("packing", PACKINGS)):
+        if table.get(law.name) is law:
+            return key
+    raise KeyError(law.name)
+
+
+def described(material: Any) -> str:
+    """A material's laws as a message names them: its rheology, and its friction and
+    packing where they are not the defaults."""
+    return f"rheology = {material.rheology!r}" + (
+        f" with friction = {material.friction!r}" if material.friction != "constant"
+        else "") + (f" with packing = {material.packing!r}" if material.packing != "none"
+                    else "")
+
+
 def all_laws() -> list[Law]:
-    """Every registered law: the rheologies, then the frictions."""
-    return [*RHEOLOGIES.values(), *FRICTIONS.values()]
+    """Every registered law: the rheologies, the frictions, then the packings."""
+    return [*RHEOLOGIES.values(), *FRICTIONS.values(), *PACKINGS.values()]
 
 
-def laws_of(material: Any) -> tuple[Law, Law]:
-    """A material's rheology and friction."""
-    return RHEOLOGIES[material.rheology], FRICTIONS[material.friction]
+def laws_of(material: Any) -> tuple[Law, Law, Law]:
+    """A material's rheology, friction and packing."""
+    return (RHEOLOGIES[material.rheology], FRICTIONS[material.friction],
+            PACKINGS[material.packing])
 
 
 def law_keys() -> dict[str, Key]:
@@ -130,15 +160,27 @@ def keys_read(material: Any) -> set[str]:
 
 
 def material_law(material: Any, eps: float, fields: LawFields = LawFields()) -> Any:
-    """The law of one material: its rheology, wrapped by its friction."""
+    """The law of one material: its rheology, wrapped by its friction and its packing."""
     flow = RHEOLOGIES[material.rheology].build(material, eps, fields)
-    return FRICTIONS[material.friction].build(material, eps, fields, flow)
+    return packed(material, eps, fields,
+                  FRICTIONS[material.friction].build(material, eps, fields, flow))
+
+
+def packed(material: Any, eps: float, fields: LawFields, law: Any) -> Any:
+    """``law`` (a material's rheology with its friction) wrapped by its packing."""
+    return PACKINGS[material.packing].build(material, eps, fields, law)
+
+
+def bulk_density(material: Any, fields: LawFields = LawFields()) -> Any:
+    """The bulk density of a material: ``material.density``, or its packing's."""
+    density = PACKINGS[material.packing].density
+    return material.density if density is None else density(material, fields)
 
 
 def checks(material: Any, section: str, eps: float) -> Iterator[str]:
-    """What the material's rheology and friction say is wrong with it."""
-    yield from RHEOLOGIES[material.rheology].checks(material, section, eps)
-    yield from FRICTIONS[material.friction].checks(material, section, eps)
+    """What the material's rheology, friction and packing say is wrong with it."""
+    for law in laws_of(material):
+        yield from law.checks(material, section, eps)
 
 
 def named(section: str, key: str, words: str, value: Any) -> str:
@@ -158,3 +200,5 @@ def packing_checks(material: Any, section: str) -> Iterator[str]:
 
 register_friction(Law("constant", {}, lambda material, eps, fields, flow: flow,
                       words="a constant friction"))
+register_packing(Law("none", {}, lambda material, eps, fields, flow: flow,
+                     words="no packing fraction (incompressible)"))

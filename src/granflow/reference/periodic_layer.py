@@ -15,11 +15,13 @@ attributes) and gives a ``Reference``, or the line that says why none applies:
 
 A friction wraps the rheology's reference: a constant one leaves it; a hysteretic one keeps
 the steady profile of the flowing law (a layer that keeps flowing is mobilised, mu =
-mu_flow) and has no transient (the 1D solver's friction is constant).
+mu_flow) and has no transient (the 1D solver's friction is constant). A packing wraps the
+friction's: none leaves it; a packing fraction has none (the 1D solvers are incompressible).
 """
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -49,7 +51,7 @@ def steep(config: Any) -> bool:
 
 def _law(config: Any) -> Any:
     """The material's flow law (its rheology, without its friction), reading no field."""
-    rheology, _ = laws_of(config.material)
+    rheology = laws_of(config.material)[0]
     return rheology.build(config.material, config.numerics.eps, LawFields())
 
 
@@ -116,17 +118,20 @@ def hysteretic_friction(config: Any, flow: RheologyReference) -> Reference | str
     return flow(config)
 
 
+def no_packing(config: Any, flow: RheologyReference) -> Reference | str:
+    return flow(config)
+
+
 def layer_reference(config: Any) -> Reference | str:
     """The reference of a periodic layer of ``config``'s material, or why none applies."""
     mat = config.material
-    rheology, friction = laws_of(mat)
-    if rheology.reference is None:
-        return (f"no reference: material.rheology = {mat.rheology!r} registers no 1D "
-                "reference of a periodic layer")
-    if friction.reference is None:
-        return (f"no reference: material.friction = {mat.friction!r} registers no 1D "
-                "reference of a periodic layer")
-    return friction.reference(config, rheology.reference)  # type: ignore[no-any-return]
+    rheology, friction, packing = laws_of(mat)
+    for key, law in (("rheology", rheology), ("friction", friction), ("packing", packing)):
+        if law.reference is None:
+            return (f"no reference: material.{key} = {getattr(mat, key)!r} registers no 1D "
+                    "reference of a periodic layer")
+    flow = functools.partial(friction.reference, flow=rheology.reference)
+    return packing.reference(config, flow)  # type: ignore[no-any-return]
 
 
 register_reference("drucker-prager", drucker_prager)
@@ -134,3 +139,4 @@ register_reference("mu-i", mu_i)
 register_reference("nonlocal", nonlocal_layer)
 register_reference("constant", constant_friction)
 register_reference("hysteretic", hysteretic_friction)
+register_reference("none", no_packing)

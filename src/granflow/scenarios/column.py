@@ -4,7 +4,8 @@ discretisation on it (solver and ALE mover, ``column_discretisation``), the reme
 (``column_remesher``) and the loop, starts from the column at rest, and adds to the loop the
 parts that declare the outputs as named callbacks: the collapse's measures
 (``column_measures``), an erodible layer (``column_layer``), a hysteretic friction's
-state (``mobilisation``) and a nonlocal law's fluidity (``fluidity``)."""
+state (``mobilisation``), a nonlocal law's fluidity (``fluidity``) and a packing fraction
+(``packing``)."""
 
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.column_sizes import initial_size_field
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
+from granflow.scenarios.packing import PackingOutputs
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
@@ -132,9 +134,9 @@ def build_column(config: Config) -> ColumnCollapse:
         mobilisation.start()
     # before the runner's outputs: they read the moved layer and the advanced state
     add_callback(simulation, measures, "collapse")
-    fluidity = FluidityOutputs.of(current)
+    fluidity, packing = FluidityOutputs.of(current), PackingOutputs.of(current)
     for name, part in (("layer", layer), ("mobilisation", mobilisation),
-                       ("fluidity", fluidity)):
+                       ("fluidity", fluidity), ("packing", packing)):
         if part is not None:
             add_callback(simulation, part, name)
     if config.time.stop_at_rest:

@@ -85,7 +85,7 @@ def discretise(setup: ColumnSetup, mesh: ngs.Mesh,
                         conserve_volume=num.volume_correction, tension=tension,
                         measure=polygon_measure(setup.axisymmetric),
                         support=Support(scene.bed, scene.wall), gate=scene.gate,
-                        gate_speed=setup.gate_speed)
+                        gate_speed=setup.gate_speed, excess=solver.volume_excess)
     out = ColumnDiscretisation(mesh, solver, mover)
     out.set_fraction(layer)
     return out

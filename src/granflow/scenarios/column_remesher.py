@@ -19,7 +19,12 @@ import numpy as np
 from granflow.ale.mesh_motion import vertex_values
 from granflow.ale.remesh import remesh, shape_quality
 from granflow.ale.size_field import SizeField
-from granflow.ale.transfer import StateTransfer, transfer_tensor, transfer_vertices
+from granflow.ale.transfer import (
+    StateTransfer,
+    transfer_cells,
+    transfer_tensor,
+    transfer_vertices,
+)
 from granflow.diagnostics.state import FLOWING_SPEED
 from granflow.fem.coupling import Carriers
 from granflow.geometry.stretch import LayerStretch
@@ -141,7 +146,7 @@ class ColumnRemesher:
         transfer = StateTransfer(new.solver.space, friction_walls(setup),
                                  setup.config.boundary.penalty, new.solver.coordinates)
         new.solver.inherit(old.solver, Carriers(transfer.apply, transfer_tensor,
-                                                transfer_vertices))
+                                                transfer_vertices, transfer_cells))
         new.mover.inherit(old.mover)
         if added:                         # the free-surface fix conserves the longer layer
             new.mover.initial_area += added

@@ -6,8 +6,8 @@ boundaries with u = 0, the symmetry axis, where a fluidity vanishes, the free su
 the rest is read here: the law and density of the run's materials, gravity, the channel's
 side walls, the surface tension, the coordinates and time scheme, the solver choice, and
 the fields coupled to the flow, each from its own resolver (``COUPLED_FIELDS``, in the
-order they are built: the share of layer material before the fluidity that blends with
-it).
+order they are built: the share of layer material before the fluidity and the packing
+that blend with it).
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from granflow.fem.primal_dual import PrimalDualSpec
 from granflow.physics import gravity_vector, gravity_vector_3d
 from granflow.scenarios.fluidity import fluidity_specs
 from granflow.scenarios.materials import MaterialLaw, RunMaterials, augmentation, build_side_walls
+from granflow.scenarios.packing import packing_specs
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,11 @@ def _fluidity(config: Config, materials: RunMaterials,
                           initial=layout.initial_fluidity)
 
 
+def _packing(config: Config, materials: RunMaterials,
+             layout: Layout) -> tuple[CouplingSpec, ...]:
+    return packing_specs(config, materials)
+
+
 def _augmented_lagrangian(config: Config, materials: RunMaterials,
                           layout: Layout) -> tuple[CouplingSpec, ...]:
     r = augmentation(config)
@@ -81,7 +87,7 @@ def _primal_dual(config: Config, materials: RunMaterials,
     return (PrimalDualSpec(),) if wanted else ()
 
 
-COUPLED_FIELDS: tuple[Resolver, ...] = (_material_share, _mobilisation, _fluidity,
+COUPLED_FIELDS: tuple[Resolver, ...] = (_material_share, _mobilisation, _fluidity, _packing,
                                         _augmented_lagrangian, _primal_dual)
 
 

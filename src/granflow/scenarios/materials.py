@@ -10,7 +10,7 @@ from granflow.config.kinds import erodible_layer
 from granflow.config.schema import Material
 from granflow.physics import Rheology, SideWallFriction
 from granflow.physics.hysteresis import HYSTERETIC
-from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields
+from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields, bulk_density, packed
 from granflow.physics.nonlocal_fluidity import NONLOCAL, NonlocalFluidity
 from granflow.physics.regions import TwoMaterials, blend
 
@@ -22,12 +22,15 @@ def build_rheology(config: Config, fluidity: Any = 0.0) -> Rheology:
 
 
 def friction_law(mat: Material, eps: float, mobilisation: Any = 0.0,
-                 per_triangle: Any = None, fluidity: Any = 0.0) -> Rheology:
-    """The law of one material with its friction (``physics/laws.py``): ``material_law``
-    wrapped by its friction, which reads the mobilisation s (``mobilisation``: its field;
-    ``per_triangle``: its cell values)."""
-    fields = LawFields(fluidity=fluidity, mobilisation=mobilisation, per_triangle=per_triangle)
-    return FRICTIONS[mat.friction].build(mat, eps, fields, material_law(mat, eps, fluidity))
+                 per_triangle: Any = None, fluidity: Any = 0.0, packing: Any = None) -> Rheology:
+    """The law of one material with its friction and packing (``physics/laws.py``):
+    ``material_law`` wrapped by its friction, which reads the mobilisation s
+    (``mobilisation``: its field; ``per_triangle``: its cell values), and by its packing,
+    which reads the packing fraction (``packing``)."""
+    fields = LawFields(fluidity=fluidity, mobilisation=mobilisation, per_triangle=per_triangle,
+                       packing=packing)
+    return packed(mat, eps, fields, FRICTIONS[mat.friction].build(
+        mat, eps, fields, material_law(mat, eps, fluidity)))
 
 
 def material_law(mat: Material, eps: float, fluidity: Any = 0.0) -> Rheology:
@@ -80,14 +83,17 @@ class RunMaterials:
         (``fem/engine.py: read_on_walls``: a plain L2 function is 0 on a boundary element,
         which would give the Coulomb walls' load under the layer the column's law). A
         hysteretic friction reads the mobilisation (``fields.mobilisation``,
-        ``fields.per_triangle``), a nonlocal law the fluidity (``friction_law``)."""
+        ``fields.per_triangle``), a nonlocal law the fluidity, a packing law the packing
+        fraction, which also sets the density (``friction_law``, ``bulk_density``)."""
         f = fields if fields is not None else LawFields()
-        column = friction_law(self.column, eps, f.mobilisation, f.per_triangle, f.fluidity)
+        column = friction_law(self.column, eps, f.mobilisation, f.per_triangle, f.fluidity,
+                              f.packing)
         if self.layer is None or f.share is None:
-            return column, self.column.density
-        layer = friction_law(self.layer, eps, f.mobilisation, f.per_triangle, f.fluidity)
+            return column, bulk_density(self.column, f)
+        layer = friction_law(self.layer, eps, f.mobilisation, f.per_triangle, f.fluidity,
+                             f.packing)
         return (TwoMaterials(column, layer, f.share, f.share),
-                blend(self.column.density, self.layer.density, f.share))
+                blend(bulk_density(self.column, f), bulk_density(self.layer, f), f.share))
 
 
 @dataclass(frozen=True)

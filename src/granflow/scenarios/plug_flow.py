@@ -29,6 +29,7 @@ from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import run_materials
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking
+from granflow.scenarios.packing import PackingOutputs
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
@@ -205,9 +206,10 @@ def build_plug_flow(config: Config) -> PlugFlow:
                             velocity_floor=config.numerics.velocity_floor)
     problem = PlugFlow(config=config, mesh=mesh, solver=solver, simulation=simulation)
     add_callback(simulation, PlugFlowOutputs(problem), "plug_flow")
-    fluidity = FluidityOutputs.of(problem)
-    if fluidity is not None:
-        add_callback(simulation, fluidity, "fluidity")
+    fluidity, packing = FluidityOutputs.of(problem), PackingOutputs.of(problem)
+    for name, part in (("fluidity", fluidity), ("packing", packing)):
+        if part is not None:
+            add_callback(simulation, part, name)
     if problem.mobilisation is not None:
         problem.tracking = MobilisationTracking(run_materials(config), problem,
                                                 simulation)
