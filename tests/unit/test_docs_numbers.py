@@ -40,6 +40,25 @@ HYSTERESIS = "hysteresis/hysteresis.json"
 REPRODUCIBILITY = "reproducibility/reproducibility.json"
 MAIN_VS_3D = "collapse/main-vs-three-d.json"
 MKL_MODES = "mkl_modes/mkl_modes.json"
+CYL_AUTO, CYL_COMPAT = "cylinder_rest/cyl-auto.json", "cylinder_rest/cyl-compat.json"
+CYL_PAIR, CYL_CREEP = "cylinder_rest/cyl-compat-vs-cyl-auto.json", "cylinder_rest/rest_creep.json"
+CYL = "cylinder-erodible"
+
+
+def _surfaces(reduce: str) -> Callable[[Any], float]:
+    """The two MKL modes' cylinders: the largest mean or max free-surface distance (m)."""
+    return lambda d: max(gap[reduce] for gap in d[CYL]["free_surfaces"].values())
+
+
+def _creep(mode: str, key: str) -> Callable[[Any], float]:
+    """A figure of the cylinder's rest creep (benchmarks/rest_creep.py) in one MKL mode."""
+    return lambda d: d[f"cyl-{mode}/{CYL}"][key]
+
+
+def _window_speed(mode: str, t0: float) -> Callable[[Any], float]:
+    """The largest speed (m/s) in the creep window starting at ``t0``."""
+    return lambda d: next(w["max_speed_max_m_s"] for w in d[f"cyl-{mode}/{CYL}"]["windows"]
+                          if math.isclose(w["t0"], t0))
 
 
 def _compatible_extra(case: str) -> Callable[[Any], float]:
@@ -419,6 +438,53 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      ERODIBLE_SPEED, "criteria.surface_max_mm", ".0f", 1),
     ("docs/performance.md", "The cylinder's rest rule moves by {} %: it is decided",
      ERODIBLE_SPEED, _stop_change("head-vs-slow", "cylinder-erodible"), ".0f", 1),
+    # --- the erodible cylinder's rest stop under MKL's two modes (collapse_runs.py, rest_creep.py)
+    ("docs/performance.md", "cylinder-erodible` rests at {} s (445 steps)", CYL_AUTO,
+     f"{CYL}.stop_time_s", ".2f", 1),
+    ("docs/performance.md", "rests at 0.81 s ({} steps); with", CYL_AUTO, f"{CYL}.steps",
+     ",d", 1),
+    ("docs/performance.md", "the table's, at {} s (483 steps)", CYL_COMPAT,
+     f"{CYL}.stop_time_s", ".2f", 1),
+    ("docs/performance.md", "the table's, at 1.15 s ({} steps)", CYL_COMPAT, f"{CYL}.steps",
+     ",d", 1),
+    ("docs/performance.md", "section) at {} s in both", CYL_PAIR,
+     f"{CYL}.cyl-auto.duration_s", ".3f", 1),
+    ("docs/performance.md", "s in both ({} %), the", CYL_PAIR,
+     f"{CYL}.relative_changes.duration_s", ".2f", 100),
+    ("docs/performance.md", "within {} mm of each other on average", CYL_PAIR,
+     _surfaces("mean_m"), ".2f", 1e3),
+    ("docs/performance.md", "on average and {} mm at most (early", CYL_PAIR, _surfaces("max_m"),
+     ".1f", 1e3),
+    ("docs/performance.md", "folding nose; {} mm at 0.8 s)", CYL_PAIR,
+     lambda d: d[CYL]["free_surfaces"]["0.800"]["max_m"], ".2f", 1e3),
+    ("docs/performance.md", "the runout is {} % shorter", CYL_PAIR,
+     lambda d: -d[CYL]["relative_changes"]["runout_m"], ".2f", 100),
+    ("docs/performance.md", "({} against 241.0 mm)", CYL_AUTO, f"{CYL}.runout_m", ".1f", 1e3),
+    ("docs/performance.md", "(239.7 against {} mm)", CYL_COMPAT, f"{CYL}.runout_m", ".1f",
+     1e3),
+    ("docs/performance.md", "the foot crept {} s less", CYL_CREEP,
+     lambda d: _creep("compat", "stop_time_s")(d) - _creep("auto", "stop_time_s")(d), ".2f", 1),
+    ("docs/performance.md", "(largest speed {} mm/s at 0.80-0.85 s)", CYL_CREEP,
+     _window_speed("auto", 0.8), ".2f", 1e3),
+    ("docs/performance.md", "crosses the threshold at {} s; with", CYL_CREEP,
+     _creep("auto", "stop_time_s"), ".2f", 1),
+    ("docs/performance.md", "and crosses it only at {} s.", CYL_CREEP,
+     _creep("compat", "stop_time_s"), ".2f", 1),
+    ("docs/verification.md", "runs out to r∞ = {} m with", CYL_AUTO, f"{CYL}.runout_m", ".4f", 1),
+    ("docs/verification.md", "m with {} m on the axis", CYL_AUTO, f"{CYL}.wall_height_m",
+     ".3f", 1),
+    ("docs/verification.md", "on the axis ({} steps, 57 remeshes)", CYL_AUTO, f"{CYL}.steps",
+     ",d", 1),
+    ("docs/verification.md", "steps, {} remeshes); its flow ends", CYL_AUTO, f"{CYL}.remeshes",
+     ",d", 1),
+    ("docs/verification.md", "`duration_s`) at {} s. After that", CYL_PAIR,
+     f"{CYL}.cyl-auto.duration_s", ".3f", 1),
+    ("docs/verification.md", "0.1 %: {} s with MKL's own kernels", CYL_AUTO,
+     f"{CYL}.stop_time_s", ".2f", 1),
+    ("docs/verification.md", "kernels (the default) and {} s with", CYL_COMPAT,
+     f"{CYL}.stop_time_s", ".2f", 1),
+    ("docs/verification.md", "(r∞ = {} m), the same flow otherwise", CYL_COMPAT,
+     f"{CYL}.runout_m", ".4f", 1),
     # --- the slab and the rigid bed's models (benchmarks/slab.py, benchmarks/bed_models.py)
     ("docs/erosion.md", r"| **no-slip bed and \(\eta\) = 0.01: drucker-prager** | **{}** |",
      SLAB, _slab_ratio("drucker-prager/no-slip+small-eta", 0), ".2f", 1),
