@@ -16,12 +16,13 @@ from granflow.ale.mesh_motion import ElasticMeshVelocity, LagrangeMeshVelocity
 from granflow.ale.surface_tension import SurfaceTension
 from granflow.fem.flow import FlowSolver
 from granflow.fem.flow_factory import build_flow
-from granflow.fem.material_share import MaterialShare
-from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.geometry.layer_material import LayerMaterial
 from granflow.geometry.mesh import BED, END, GATE, WALL
 from granflow.scenarios.column_setup import ColumnSetup
+from granflow.scenarios.materials import share_of
+from granflow.scenarios.mobilisation_tracking import mobilisation_of
 
 
 @dataclass
@@ -39,14 +40,12 @@ class ColumnDiscretisation:
     @property
     def fraction(self) -> ngs.GridFunction | None:
         """Two materials: the share of layer material per triangle (else None)."""
-        share = self.solver.coupling(MaterialShare)
-        return share.fraction if share is not None else None
+        return share_of(self.solver)
 
     @property
     def mobilisation(self) -> MobilisationField | None:
         """A hysteretic friction's state (else None)."""
-        coupling = self.solver.coupling(MobilisationCoupling)
-        return coupling.field if coupling is not None else None
+        return mobilisation_of(self.solver)
 
     def set_fraction(self, layer: LayerMaterial | None) -> None:
         """The material indicator of the current mesh from the tracked layer region."""

@@ -5,9 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import ngsolve as ngs
+
 from granflow.config import Config
 from granflow.config.kinds import erodible_layer
 from granflow.config.schema import Material
+from granflow.fem.flow import FlowSolver
+from granflow.fem.material_share import MaterialShare
 from granflow.physics import Rheology, SideWallFriction
 from granflow.physics.hysteresis import HYSTERETIC
 from granflow.physics.laws import FRICTIONS, RHEOLOGIES, LawFields, bulk_density, packed
@@ -143,3 +147,9 @@ def augmentation(config: Config) -> float | None:
     if num.method != "augmented-lagrangian":
         return None
     return 20.0 * config.material.viscosity if num.al_r == "auto" else float(num.al_r)
+
+
+def share_of(solver: FlowSolver) -> ngs.GridFunction | None:
+    """A solver's share of layer material per triangle, None with one material."""
+    share = solver.coupling(MaterialShare)
+    return share.fraction if share is not None else None

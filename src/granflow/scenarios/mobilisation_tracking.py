@@ -26,7 +26,7 @@ import numpy as np
 
 from granflow.ale.transfer import transfer_cells
 from granflow.fem.flow import FlowSolver
-from granflow.fem.mobilisation_field import MobilisationField
+from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
 from granflow.fem.sampling import triangles
 from granflow.physics.hysteresis import Relaxation, pick, relaxation, relaxed
 from granflow.scenarios.materials import RunMaterials
@@ -142,3 +142,9 @@ class MobilisationTracking(Outputs):
         assign(self.field.values, state["mobilisation"], "the checkpoint's mobilisation")
         self.t = float(state["mobilisation_t"])
         self._coordinates = self.current.mesh.ngmesh.Coordinates().copy()
+
+
+def mobilisation_of(solver: FlowSolver) -> MobilisationField | None:
+    """A solver's hysteretic friction state, None without a hysteretic friction."""
+    coupling = solver.coupling(MobilisationCoupling)
+    return coupling.field if coupling is not None else None

@@ -18,7 +18,7 @@ from granflow.fem.engine import NGSOLVE_OPS
 from granflow.fem.flow import FlowSolver
 from granflow.fem.flow_factory import build_flow
 from granflow.fem.linalg import direct_solver
-from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.geometry.mesh import BED, periodic_layer_mesh
 from granflow.physics import gravity_vector
 from granflow.physics.nonlocal_fluidity import NonlocalFluidity
@@ -28,7 +28,7 @@ from granflow.reference.plug1d import Plug1DSolution
 from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import run_materials
-from granflow.scenarios.mobilisation_tracking import MobilisationTracking
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking, mobilisation_of
 from granflow.scenarios.packing import PackingOutputs
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
@@ -53,8 +53,7 @@ class PlugFlow:
     @property
     def mobilisation(self) -> MobilisationField | None:
         """A hysteretic friction's state (else None)."""
-        coupling = self.solver.coupling(MobilisationCoupling)
-        return coupling.field if coupling is not None else None
+        return mobilisation_of(self.solver)
 
     @property
     def steep(self) -> bool:

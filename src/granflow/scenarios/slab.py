@@ -21,16 +21,15 @@ import numpy as np
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
 from granflow.fem.flow_factory import build_flow
-from granflow.fem.material_share import MaterialShare
-from granflow.fem.mobilisation_field import MobilisationCoupling, MobilisationField
+from granflow.fem.mobilisation_field import MobilisationField
 from granflow.fem.sampling import cell_means, triangles, vertex_samples
 from granflow.geometry.mesh import BED, SURFACE, stacked_layer_mesh
 from granflow.physics import gravity_vector
 from granflow.scenarios.bed import bed_wall, rough_bed
 from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
-from granflow.scenarios.materials import run_materials
-from granflow.scenarios.mobilisation_tracking import MobilisationTracking
+from granflow.scenarios.materials import run_materials, share_of
+from granflow.scenarios.mobilisation_tracking import MobilisationTracking, mobilisation_of
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
@@ -54,14 +53,12 @@ class Slab:
     @property
     def fraction(self) -> ngs.GridFunction | None:
         """A layer of its own material: its share per triangle (else None)."""
-        share = self.solver.coupling(MaterialShare)
-        return share.fraction if share is not None else None
+        return share_of(self.solver)
 
     @property
     def mobilisation(self) -> MobilisationField | None:
         """A hysteretic friction's state (else None)."""
-        coupling = self.solver.coupling(MobilisationCoupling)
-        return coupling.field if coupling is not None else None
+        return mobilisation_of(self.solver)
 
     def save_state(self) -> dict[str, Any]:
         """The flow's history and the shares of the loop's callbacks (the mesh never moves)."""
