@@ -2,7 +2,8 @@
 rate-dependent laws, and the nonlocal law's deposit on a bed that does not slide.
 
 Run: python benchmarks/bed_models.py [--cases flat rest] [--levels 0.014 0.007]
-         [--out benchmarks/results/bed_models]
+         [--viscosity 0.01] [--laws glass-beads nonlocal] [--beds material no-slip]
+         [--shapes rectangle trapezoid] [--out benchmarks/results/bed_models]
 
 - flat: the paper's rectangle and trapezoid on the level bed (`rectangle-rigid`,
   `trapezoid-rigid` at their settings, to rest or 3 s) with Drucker-Prager (the paper's law: on the
@@ -15,6 +16,11 @@ Run: python benchmarks/bed_models.py [--cases flat rest] [--levels 0.014 0.007]
   rest (t_end 30 s, time.stop_at_rest) at each mesh size of --levels: the deposit's
   thickness behind its tip against the model's h_stop(22) = 2.68 mm
   (``nonlocal_collapse.deposit_thickness``), the time it came to rest, its runout.
+
+``--viscosity ETA`` runs the flat case with material.viscosity = ETA (the paper's 1 Pa s
+otherwise), its runs named NAME-etaETA beside the others; every flat row is compared with
+Drucker-Prager on the Coulomb bed at the paper's 1 Pa s (the model the paper shows against
+the experiments). ``--laws``, ``--beds`` and ``--shapes`` run a part of the flat case.
 
 Runs go to OUT/runs/NAME (checkpoints every 100 steps: a killed study continues where it
 stopped); OUT/bed_models.json holds every figure, OUT/bed_models.md the tables.
@@ -53,6 +59,14 @@ REST_SLOPE, REST_END = 22.0, 30.0
 FLAT_END = 3.0   # s: every level-bed run to rest (the rate-dependent laws creep longer)
 
 
+def store(out: Path, case: str, name: str, row: dict) -> None:
+    """The row into OUT/bed_models.json as it is on disk now: two invocations running
+    different rows at once keep each other's rows."""
+    results = read_results(out / "bed_models.json")
+    results.setdefault(case, {})[name] = row
+    write_results(out, "bed_models", results)
+
+
 def final_surface(run: Path) -> np.ndarray | None:
     """The last accepted state's free surface, (n, 2)."""
     surface = profiles.final_profile(run, "free_surface")
@@ -61,17 +75,25 @@ def final_surface(run: Path) -> np.ndarray | None:
     return np.column_stack([surface["x"], surface["z"]])
 
 
-def flat(out: Path, results: dict) -> dict:
+def flat(out: Path, results: dict, viscosity: float | None = None,
+         laws: tuple[str, ...] = tuple(LAWS), beds: tuple[str, ...] = BEDS,
+         shapes: tuple[str, ...] = tuple(SHAPES)) -> dict:
+    """The level-bed runs of ``shapes`` x ``laws`` x ``beds`` (``viscosity``: eta, Pa s,
+    else the paper's), each kept when finished and continued from its checkpoint."""
     rows = results.setdefault("flat", {})
-    for shape, scenario in SHAPES.items():
+    tail = "" if viscosity is None else f"-eta{viscosity:g}"
+    eta = [] if viscosity is None else [f"material.viscosity={viscosity!r}"]
+    for shape in shapes:
+        scenario = SHAPES[shape]
         reference = out / "runs" / f"{shape}-drucker-prager-coulomb"
-        for law, keys in LAWS.items():
-            for bed in BEDS:
+        for law in laws:
+            for bed in beds:
                 if law == "drucker-prager" and bed == "material":
                     continue       # its Coulomb bed, to round-off (tests/unit/test_bed.py)
-                name = f"{shape}-{law}-{bed}"
+                name = f"{shape}-{law}-{bed}{tail}"
                 folder = out / "runs" / name
-                overrides = [*COMMON, *keys, f"boundary.bed={bed}", f"time.t_end={FLAT_END}"]
+                overrides = [*COMMON, *LAWS[law], *eta, f"boundary.bed={bed}",
+                             f"time.t_end={FLAT_END}"]
                 row = {k: v for k, v in run_or_continue(scenario, overrides, folder).items()
                        if k in KEYS}
                 first, second = final_surface(folder), final_surface(reference)
@@ -82,7 +104,7 @@ def flat(out: Path, results: dict) -> dict:
                 rows[name] = row | {"overrides": overrides}
                 report(name, {k: row.get(k) for k in (
                     "status", "stop_time_s", "runout_m", "surface_to_paper_model_mean_mm")})
-                write_results(out, "bed_models", results)
+                store(out, "flat", name, rows[name])
     return rows
 
 
@@ -105,13 +127,14 @@ def rest(out: Path, results: dict, levels: list[float]) -> dict:
                          "mesh_size_mm": 1e3 * size, "overrides": overrides})
         report(name, {k: rows[name].get(k) for k in (
             "status", "stop_time_s", "runout_m", "thickness_5cm_behind_tip_mm")})
-        write_results(out, "bed_models", results)
+        store(out, "rest", name, rows[name])
     return rows
 
 
-def figure(out: Path) -> None:
-    """The final free surfaces on the level bed: per column and law, its three beds, with
-    Drucker-Prager on the Coulomb bed (black) under each."""
+def figure(out: Path, tail: str = "") -> None:
+    """The final free surfaces on the level bed: per column and law, its three beds (the
+    runs named with ``tail``: a viscosity's), with Drucker-Prager on the Coulomb bed at the
+    paper's viscosity (black) under each; OUT/bed_models{tail}.png."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -127,14 +150,14 @@ def figure(out: Path) -> None:
             if reference is not None:
                 ax.plot(reference[:, 0], reference[:, 1], "k-", lw=2, label="DP, coulomb")
             for bed, style in zip(BEDS, ("-", "--", ":"), strict=True):
-                surface = final_surface(out / "runs" / f"{shape}-{law}-{bed}")
+                surface = final_surface(out / "runs" / f"{shape}-{law}-{bed}{tail}")
                 if surface is not None and (law, bed) != ("drucker-prager", "coulomb"):
                     ax.plot(surface[:, 0], surface[:, 1], style, label=bed)
             ax.set_title(f"{shape}, {law}", fontsize=9)
             ax.set_xlabel("x (m)")
             ax.legend(fontsize=7)
         row[0].set_ylabel("z (m)")
-    save_figure(fig, out / "bed_models.png")
+    save_figure(fig, out / f"bed_models{tail}.png")
 
 
 def markdown(results: dict) -> list[str]:
@@ -142,19 +165,23 @@ def markdown(results: dict) -> list[str]:
     flat_rows = results.get("flat", {})
     if flat_rows:
         lines += ["## The level bed: stop time, runout, final surface against Drucker-Prager "
-                  "on the Coulomb bed", "",
-                  "| column | law | bed | stop (s) | runout (m) | surface: mean / max (mm) |",
-                  "|---|---|---|---|---|---|"]
+                  "on the Coulomb bed (eta = 1 Pa s: the paper's model)", "",
+                  "| column | law | bed | eta (Pa s) | stop (s) | runout (m) | runout against "
+                  "the paper's model | surface: mean / max (mm) |",
+                  "|---|---|---|---|---|---|---|---|"]
         for name, r in flat_rows.items():
             shape, rest_of = name.split("-", 1)
             law = next(k for k in LAWS if rest_of.startswith(k))
-            bed = rest_of[len(law) + 1:]
-            stop = "-" if r.get("stop_time_s") is None else f"{r['stop_time_s']:.3f}"
+            bed, _, eta = rest_of[len(law) + 1:].partition("-eta")
+            paper = flat_rows.get(f"{shape}-drucker-prager-coulomb", {}).get("runout_m")
+            change = "-" if not paper else f"{100 * (r['runout_m'] / paper - 1):+.1f} %"
+            stop = ("-" if r.get("stop_time_s") is None else f"{r['stop_time_s']:.3f}") + (
+                f" (moving at {r['t_final']:g} s)" if r.get("status") == "completed" else "")
             surface = ("-" if "surface_to_paper_model_mean_mm" not in r else
                        f"{r['surface_to_paper_model_mean_mm']:.1f} / "
                        f"{r['surface_to_paper_model_max_mm']:.1f}")
-            lines.append(f"| {shape} | {law} | {bed} | {stop} | {r['runout_m']:.4f} | "
-                         f"{surface} |")
+            lines.append(f"| {shape} | {law} | {bed} | {eta or '1'} | {stop} | "
+                         f"{r['runout_m']:.4f} | {change} | {surface} |")
         lines.append("")
     rest_rows = results.get("rest", {})
     if rest_rows:
@@ -178,16 +205,23 @@ def main() -> None:
     parser.add_argument("--cases", nargs="+", default=["flat", "rest"],
                         choices=["flat", "rest"])
     parser.add_argument("--levels", nargs="+", type=float, default=[0.014])
+    parser.add_argument("--viscosity", type=float, default=None,
+                        help="flat case: material.viscosity (Pa s); the paper's 1 otherwise")
+    parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=LAWS)
+    parser.add_argument("--beds", nargs="+", default=list(BEDS), choices=BEDS)
+    parser.add_argument("--shapes", nargs="+", default=list(SHAPES), choices=SHAPES)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/bed_models"))
     args = parser.parse_args()
     results = read_results(args.out / "bed_models.json")
     if "flat" in args.cases:
-        flat(args.out, results)
+        flat(args.out, results, args.viscosity, tuple(args.laws), tuple(args.beds),
+             tuple(args.shapes))
     if "rest" in args.cases:
         rest(args.out, results, args.levels)
+    results = read_results(args.out / "bed_models.json")    # with rows run meanwhile
     write_results(args.out, "bed_models", results, markdown(results), show=True)
     if "flat" in args.cases:
-        figure(args.out)
+        figure(args.out, "" if args.viscosity is None else f"-eta{args.viscosity:g}")
 
 
 if __name__ == "__main__":
