@@ -31,12 +31,20 @@ observed one). The experiments' column is 20 cm long and 14 cm high (the `rectan
 from __future__ import annotations
 
 import argparse
+import tomllib
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from common.erosion import (  # noqa: E402
+    destination_table,
+    front_history,
+    front_speed_end,
+    fronts_table,
+    layer_destination,
+)
 from common.results import read_results, report, write_json, write_markdown  # noqa: E402
 from common.runs import FINISHED, collected, flow_duration, run_or_continue  # noqa: E402
 
@@ -82,8 +90,19 @@ VARIANTS = {
     # mu_s = tan 20.9, b = 0.9377, A = 0.48 (the law's defaults), d = 0.53 mm
     "nonlocal": ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
                  "material.grain_diameter=0.00053"],
+    # the glass beads' mu(I) with eta / 100 (column and layer) on a rigid bed that does
+    # not slide, or whose friction is the beads' own at the slip's rate (boundary.bed):
+    # the slab test's pair (benchmarks/slab.py) on the collapse
+    "glass-beads-no-slip-small-eta": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                      "material.viscosity=0.01"],
+    "glass-beads-material-small-eta": [*GLASS_BEADS, "boundary.bed=material",
+                                       "material.viscosity=0.01"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
+# how far the layer reaches, in rigid runouts: further where the layer may lengthen the
+# runout by more than 30 % (the meshed layer ends mesh.layer_ahead ahead of the flow, so
+# an unused length costs nothing)
+REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta": 2.0}
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
@@ -108,7 +127,8 @@ def overrides(variant: str, shape: str, he: float, slope: float,
         own = [o for o in own if not o.startswith("layer.")]
     out = [*COMMON, *own, f"geometry.slope_deg={slope!r}"]
     if he > 0:
-        length = max(1.0, 1.3 * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
+        reach = REACH.get(variant, 1.3)
+        length = max(1.0, reach * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
         out += [*ERODIBLE, f"mesh.layer_cells={cells}", f"geometry.erodible_thickness={he!r}",
                 f"geometry.height={HEIGHT[shape] + he!r}", f"geometry.bed_length={length!r}"]
     return out
@@ -126,8 +146,16 @@ def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
 
 
 def row_of(summary: dict, out: Path) -> dict:
-    """The summary's figures and the flow's duration (below 1 % flowing)."""
-    return {k: summary.get(k) for k in KEYS} | {"duration_s": flow_duration(out)}
+    """The summary's figures, the flow's duration (below 1 % flowing), the front on a fixed
+    clock and its speed at the end, and where the displaced layer material went
+    (``common/erosion.py``)."""
+    config = tomllib.loads((out / "config.toml").read_text())
+    grain = (config.get("layer", {}).get("grain_diameter")
+             or config["material"]["grain_diameter"])
+    return {k: summary.get(k) for k in KEYS} | {
+        "duration_s": flow_duration(out), "front_history": front_history(out),
+        "front_speed_end_m_s": front_speed_end(out)} | layer_destination(
+        out, grain, config["geometry"]["width"], summary.get("column_front_m"))
 
 
 def runout(row: dict) -> float | None:
@@ -282,6 +310,18 @@ def figure(results: dict[str, dict], path: Path) -> None:
     save_figure(fig, path)
 
 
+def where(results: dict[str, dict]) -> str:
+    """The erodible rows' fronts against their rigid twins' in time, then where their
+    displaced layer material went (``common/erosion.py``)."""
+    rows = sorted(((n, r) for n, r in results.items() if r["he"] > 0 and "front_history" in r),
+                  key=lambda item: (item[1]["variant"], item[1]["slope"], item[1]["he"]))
+    pairs = [(n, r, results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {}))
+             for n, r in rows]
+    return ("## The front over the layer minus the rigid twin's (mm)\n\n" + fronts_table(pairs)
+            + "\n## Where the displaced layer material went, at the end\n\n"
+            + destination_table(rows))
+
+
 def key(variant: str, shape: str, he: float, slope: float, cells: int = CELLS) -> str:
     """The run's name (and folder): a layer of other than two cells says how many."""
     tail = f"-{cells}cells" if he > 0 and cells != CELLS else ""
@@ -317,6 +357,7 @@ def main() -> None:
                         continue
                     name = key(variant, shape, he, slope, args.cells)
                     folder = args.out / "runs" / name
+                    results = read_results(store)   # with rows another invocation ran
                     if args.collect:
                         summary = collected(folder)
                         if summary is None:
@@ -329,9 +370,11 @@ def main() -> None:
                     results[name] = row | {"variant": variant, "shape": shape,
                                            "slope": slope, "he": he, "cells": args.cells}
                     report(name, results[name])
+                    results = read_results(store) | {name: results[name]}
                     write_json(store, results)
                     write_markdown(args.out / "erosion_slopes.md", table(results))
                     write_markdown(args.out / "erosion_slopes_ratios.md", ratio_table(results))
+                    write_markdown(args.out / "erosion_slopes_fronts.md", where(results))
     figure(results, args.out / "erosion_slopes.png")
     print(table(results))
 
