@@ -14,8 +14,12 @@ kept and one with a checkpoint (every 100 steps) continued, so rerunning the com
 continues the study; a finished row already in OUT/erosion_slopes.json with the same
 overrides is kept without its run folder (a fresh clone has none). OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
-erosion_slopes.png the ratio against slope. The flow duration is the time the flowing
-area falls below 1 % (``common/runs.flow_duration``).
+erosion_slopes.png the ratio against slope, OUT/erosion_slopes_fronts.md each layer row's
+front against its rigid twin's in time, the fronts' speeds at the end and where the
+displaced layer material went (``common/erosion.py``). The flow duration is the time the
+flowing area falls below 1 % (``common/runs.flow_duration``). Two invocations may run
+different rows into the same OUT at once: each row is written into the record as it is
+on disk then.
 
 Experimental reference (what could be checked here; the papers' tables were not reachable):
 on glass beads (repose angle about 23.5 deg, avalanche angle about 25.5 deg), an erodible
