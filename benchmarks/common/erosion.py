@@ -64,14 +64,24 @@ def layer_destination(root: Path, grain: float, column_width: float,
     return out
 
 
+def at_rest_on(row: dict, clock: tuple[float, ...] = CLOCK) -> dict[str, float]:
+    """A row's ``front_history``, and for a run that stopped at rest its runout at the
+    times of ``clock`` after its end (its front stays there)."""
+    history = dict(row.get("front_history", {}))
+    if row.get("status") == "stopped" and row.get("runout_m") is not None:
+        for c in clock:
+            history.setdefault(f"{c:g}", row["runout_m"])
+    return history
+
+
 def fronts_table(pairs: list[tuple[str, dict, dict]], clock: tuple[float, ...] = CLOCK) -> str:
     """Markdown: per erodible row (name, row, its rigid twin's row), the front over the
-    layer minus the rigid twin's (mm) at each time of ``clock`` both reached (a deficit is
-    negative), and each front's speed at the end (mm/s)."""
+    layer minus the rigid twin's (mm) at each time of ``clock`` (``at_rest_on``; a deficit
+    is negative), and each front's speed at the end (mm/s)."""
     head = ["row", *(f"{c:g} s" for c in clock), "front speed at the end, layer / rigid (mm/s)"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for name, row, rigid in pairs:
-        mine, theirs = row.get("front_history", {}), rigid.get("front_history", {})
+        mine, theirs = at_rest_on(row, clock), at_rest_on(rigid, clock)
         cells = [f"{1e3 * (mine[k] - theirs[k]):+.0f}" if k in mine and k in theirs else "-"
                  for k in (f"{c:g}" for c in clock)]
         speeds = [r.get("front_speed_end_m_s") for r in (row, rigid)]
