@@ -12,7 +12,9 @@ first: the layer then reaches 1.3 times its runout (the layer must not end under
 Runs go to OUT/runs/VARIANT/SHAPE-HEmm-SLOPE (HE = 0 is the rigid bed); a finished run is
 kept and one with a checkpoint (every 100 steps) continued, so rerunning the command
 continues the study; a finished row already in OUT/erosion_slopes.json with the same
-overrides is kept without its run folder (a fresh clone has none). OUT/
+overrides is kept without its run folder (a fresh clone has none). A run interrupted
+(SIGINT, SIGTERM) is recorded as it stands (its front in time, ``interrupted``) and ends
+the invocation. OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
 erosion_slopes.png the ratio against slope, OUT/erosion_slopes_fronts.md each layer row's
 front against its rigid twin's in time, the fronts' speeds at the end and where the
@@ -379,6 +381,11 @@ def main() -> None:
                     write_markdown(args.out / "erosion_slopes.md", table(results))
                     write_markdown(args.out / "erosion_slopes_ratios.md", ratio_table(results))
                     write_markdown(args.out / "erosion_slopes_fronts.md", where(results))
+                    if results[name].get("status") == "interrupted":   # SIGINT or SIGTERM
+                        print(f"{name} interrupted: the study stops here; the same command "
+                              "continues it from the run's checkpoint")
+                        figure(results, args.out / "erosion_slopes.png")
+                        return
     figure(results, args.out / "erosion_slopes.png")
     print(table(results))
 
