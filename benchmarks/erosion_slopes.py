@@ -156,8 +156,8 @@ def row_of(summary: dict, out: Path) -> dict:
     clock and its speed at the end, and where the displaced layer material went
     (``common/erosion.py``)."""
     config = tomllib.loads((out / "config.toml").read_text())
-    grain = (config.get("layer", {}).get("grain_diameter")
-             or config["material"]["grain_diameter"])
+    grain = config.get("layer", {}).get("grain_diameter")    # "none": the column's
+    grain = grain if isinstance(grain, float) else config["material"]["grain_diameter"]
     return {k: summary.get(k) for k in KEYS} | {
         "duration_s": flow_duration(out), "front_history": front_history(out),
         "front_speed_end_m_s": front_speed_end(out)} | layer_destination(

@@ -111,6 +111,32 @@ def _slab_ratio(variant: str, slope: int) -> Callable[[Any], float]:
     return ratio
 
 
+ETA_STUDY = "erosion_slopes_eta/erosion_slopes.json"
+ETA_VARIANT = "glass-beads-no-slip-small-eta/rectangle"
+
+
+def _flat(name: str, key: str) -> Callable[[Any], float]:
+    """A level-bed run's figure (its name holds a dot: eta0.01)."""
+    return lambda data: data["flat"][name][key]
+
+
+def _study(he: str, slope: int, key: str) -> Callable[[Any], float]:
+    """A row of the erosion study on the no-slip bed with eta = 0.01 (he in mm, "0" rigid)."""
+    return lambda data: data[f"{ETA_VARIANT}-{he}mm-{slope}"][key]
+
+
+def _study_ratio(he: str, slope: int) -> Callable[[Any], float]:
+    """The row's front at its end over its rigid twin's (its runout once both rest)."""
+    return lambda data: (data[f"{ETA_VARIANT}-{he}mm-{slope}"]["runout_m"]
+                         / data[f"{ETA_VARIANT}-0mm-{slope}"]["runout_m"])
+
+
+def _study_gain(he: str, slope: int, t: str) -> Callable[[Any], float]:
+    """The row's front minus its rigid twin's at time ``t`` (m)."""
+    return lambda data: (data[f"{ETA_VARIANT}-{he}mm-{slope}"]["front_history"][t]
+                         - data[f"{ETA_VARIANT}-0mm-{slope}"]["front_history"][t])
+
+
 def _against_paper_model(name: str) -> Callable[[Any], float]:
     """A level-bed run's runout against Drucker-Prager's on the Coulomb bed, |ratio - 1|."""
     def relative(data: Any) -> float:
