@@ -156,7 +156,8 @@ def channel(size: float, slope: float, out: Path, reuse: bool) -> dict[str, Any]
         "status", "stop_time_s", "front_settle_time_s", "runout_m", "runout_centre_m",
         "runout_wall_m", "steps", "nonlinear_iterations", "remeshes", "t_final")}
         | {"cpu_s": cpu[k]} for k in runs}
-    times = [t for t in three.output_times if t in set(two.output_times)]
+    times = [t for t in three.output_times if t > 0 and all(
+        profile_at(r.root, "free_surface", t) for r in (three, two))]
     surfaces = {f"{t:.3f}": compare_surfaces(three.root, two.root, t, size) for t in times}
     surfaces["final"] = compare_surfaces(three.root, two.root, None, size)
     x2 = raw["2d"]["runout_m"]
