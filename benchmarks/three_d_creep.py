@@ -13,10 +13,12 @@ volume (of the section's area in 2D) against ``time.rest_fraction``, the largest
 share (a single cell above the rule's fraction holds the stop off alone), the share of the
 flowing volume in cells that touch the free surface, the bed, the back wall, the side wall
 and the centre plane (3D), and that lie within one mesh.size of the front; the largest
-speed, where it is and the across-channel share of the flowing cells' speed; the flowing
-cells' mean yield ratio. From diagnostics.csv in the same window: nonlinear iterations per
-step, the relative volume restored per step by the volume correction (3D) and its rate
-over the free surface's area, the front's mean speed. Writes OUT.json and OUT.md.
+speed, where it is, the across-channel share of the flowing cells' speed and their mean
+velocity across (towards the side wall positive); the flowing cells' mean pressure and
+yield ratio. From diagnostics.csv in the same window: nonlinear iterations per
+step, the relative volume (area) restored per step by the free-surface fix and its rate
+as the mean normal speed of the free surface that restores it, the front's mean speed.
+Writes OUT.json and OUT.md.
 """
 
 from __future__ import annotations
@@ -58,6 +60,23 @@ def cell_sizes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     return 0.5 * np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
 
 
+def free_surface_size(points: np.ndarray, cells: np.ndarray) -> float:
+    """The free surface's area (3D) or length (2D): the boundary facets on no plane."""
+    three = cells.shape[1] == 4
+    planes = [(2 if three else 1, 0.0), (0, 0.0)]
+    if three:
+        planes += [(1, points[:, 1].min()), (1, points[:, 1].max())]
+    nodes = boundary_facets(cells)[:, :-1]
+    planar = np.zeros(len(nodes), dtype=bool)
+    for axis, value in planes:
+        planar |= np.all(np.abs(points[nodes, axis] - value) < ON_PLANE, axis=1)
+    free = points[nodes[~planar]]
+    if three:
+        return float(0.5 * np.linalg.norm(np.cross(free[:, 1] - free[:, 0],
+                                                   free[:, 2] - free[:, 0]), axis=1).sum())
+    return float(np.linalg.norm(free[:, 1] - free[:, 0], axis=1).sum())
+
+
 def where(points: np.ndarray, cells: np.ndarray, size: float) -> dict[str, np.ndarray]:
     """Per cell: whether it has a facet on the free surface, the bed, the back wall, the
     side wall and the centre plane (3D), and whether its centroid lies within ``size`` of
@@ -93,6 +112,8 @@ def snapshot_row(root: Path, t: float, name: str, size: float) -> dict[str, Any]
     flowing = speed > FLOWING
     total, moving = sizes.sum(), sizes[flowing].sum()
     row: dict[str, Any] = {"t": t, "cells": len(cells), "flowing_cells": int(flowing.sum()),
+                           "volume": float(total),
+                           "free_surface": free_surface_size(points, cells),
                            "flowing_share": float(moving / total),
                            "largest_cell_share": float(sizes.max() / total),
                            "max_speed_m_s": float(speed.max())}
@@ -107,6 +128,11 @@ def snapshot_row(root: Path, t: float, name: str, size: float) -> dict[str, Any]
     norm = np.linalg.norm(cell_velocity, axis=1)
     if kind == "tetra":
         row["across_share"] = float(np.mean(np.abs(cell_velocity[:, 1]) / norm))
+        # the mean across-channel velocity, positive towards the side wall (the high plane)
+        row["across_mean_m_s"] = float(np.mean(cell_velocity[:, 1]))
+    if "pressure" in mesh.point_data:
+        row["pressure_mean_pa"] = float(np.mean(np.asarray(mesh.point_data["pressure"])[
+            cells[flowing]]))
     if "yield_ratio" in data:
         row["yield_ratio_mean"] = float(np.mean(data["yield_ratio"][flowing]))
     return row
@@ -127,9 +153,14 @@ def creep(root: Path, start: float, end: float) -> dict[str, Any]:
                          "iterations_per_step": float(window["iterations"].mean()),
                          "dt_mean_s": float(window["dt"].mean()),
                          "front_speed_mean_m_s": float((x[-1] - x[0]) / (t[-1] - t[0]))}
-        if "volume_correction" in window:
-            rate = window["volume_correction"].abs() / window["dt"]
-            out["window"]["volume_correction_per_s"] = float(rate.mean())
+        fix = "volume_correction" if "volume_correction" in window else "area_correction"
+        if fix in window and rows:
+            # the free-surface fix's relative volume (area in 2D) per second, and as the
+            # mean normal speed of the free surface that restores it
+            rate = float((window[fix].abs() / window["dt"]).mean())
+            out["window"]["volume_correction_per_s"] = rate
+            out["window"]["volume_correction_surface_speed_m_s"] = (
+                rate * rows[-1]["volume"] / rows[-1]["free_surface"])
     return out
 
 
