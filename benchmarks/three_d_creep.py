@@ -17,13 +17,14 @@ speed, where it is, the across-channel share of the flowing cells' speed and the
 velocity across (towards the side wall positive); the flowing cells' mean pressure and
 yield ratio. From diagnostics.csv in the same window: nonlinear iterations per
 step, the relative volume (area) restored per step by the free-surface fix and its rate
-as the mean normal speed of the free surface that restores it, the front's mean speed.
-Writes OUT.json and OUT.md.
+as the mean normal speed of the free surface that restores it, the front's mean speed; and
+the summary's status, stop time, steps and runouts. Writes OUT.json and OUT.md.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -145,7 +146,10 @@ def creep(root: Path, start: float, end: float) -> dict[str, Any]:
             if start <= t <= end]
     diag = pd.read_csv(root / "diagnostics.csv")
     window = diag[(diag["t"] >= start) & (diag["t"] <= end)]
+    summary = json.loads((root / "summary.json").read_text())
     out: dict[str, Any] = {"rest_fraction": config["time"]["rest_fraction"], "size": size,
+                           **{k: summary.get(k) for k in ("status", "stop_time_s", "steps",
+                                                          "runout_m", "runout_wall_m")},
                            "snapshots": rows}
     if len(window) > 1:
         t, x = window["t"].to_numpy(), window["front_x"].to_numpy()

@@ -94,6 +94,31 @@ def _apart(key: str, scale: float = 100.0) -> Callable[[Any], float]:
     return lambda data: scale * abs(data[key] / one[key] - 1)
 
 
+CHANNEL = "three_d_collapse/channel_h0.04.json"
+CREEP, CREEP_OLD = "three_d_collapse/creep.json", "three_d_collapse/creep_ae713bc.json"
+PROBE = "three_d_collapse/creep_ae713bc_probe.json"
+RUN_3D, RUN_2D = "channel3d_h0.04", "channel2d_h0.04"
+
+
+def _surfaces_max(side: str, key: str) -> Callable[[Any], float]:
+    """The largest ``key`` of the channel's 3D ``side`` surface against 2D, any time."""
+    return lambda d: max(g[side][key] for g in d["surfaces"].values())
+
+
+def _snapshot(run: str, t: float, key: str | Callable[[Any], float],
+              scale: float = 1.0) -> Callable[[Any], float]:
+    """A creep record's snapshot figure at the snapshot nearest ``t`` (s)."""
+    def value(data: Any) -> float:
+        row = min(data[run]["snapshots"], key=lambda r: abs(r["t"] - t))
+        return scale * (key(row) if callable(key) else row[key])
+    return value
+
+
+def _last(run: str, key: str) -> Callable[[Any], float]:
+    """A creep record's figure at its last snapshot."""
+    return lambda data: data[run]["snapshots"][-1][key]
+
+
 def _at(key: str, t: str) -> Callable[[Any], float]:
     """A plane-strain record's ``key`` at output time ``t`` (its keys hold dots)."""
     return lambda data: data[key][t]
@@ -384,13 +409,6 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "({} s with what they call)", REST_1,
      lambda d: next(r["cumulative_s"] for r in d["profile"]
                     if "plane_section" in r["function"]), ".1f", 1),
-    ("docs/three_d.md", "the\n2D runout is {} m", REST_2D, "runout_m", ".4f", 1),
-    ("docs/three_d.md", "3D centre-line runout {} % longer", REST_1,
-     lambda d: 100 * (d["runout_m"] / json.loads((RESULTS / REST_2D).read_text())[
-         "runout_m"] - 1), ".1f", 1),
-    ("docs/three_d.md", "against the prediction: {} s in 2D", REST_2D, "stop_time_s",
-     ".3f", 1),
-    ("docs/three_d.md", "in 2D, {} s in 3D,", REST_1, "stop_time_s", ".3f", 1),
     ("docs/three_d.md", "| 1 | {} s |", REST_1, "stop_time_s", ".3f", 1),
     ("docs/three_d.md", "| 1 | 0.883 s | {} m,", REST_1, "runout_m", ".4f", 1),
     ("docs/three_d.md", "| 1,309 | 3,003 | 16 | {} s | 507 MB |", REST_1, "cpu_s", ".0f", 1),
@@ -401,6 +419,129 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      100),
     ("docs/three_d.md", "and {} mm apart behind the", PLANE_20,
      _at("surface_distance_behind_front_max_m", "0.2"), ".2f", 1e3),
+    # --- the 10 cm channel against 2D, and the 3D rest stop (three_d_collapse.py channel,
+    #     three_d_creep.py)
+    ("docs/three_d.md", "| runout | {} m | 0.3973 m", CHANNEL, "runs.2d.runout_m", ".4f", 1),
+    ("docs/three_d.md", "| 0.3902 m | {} m (+1.8 %)", CHANNEL, "runs.3d.runout_centre_m",
+     ".4f", 1),
+    ("docs/three_d.md", "0.3973 m ({} %) |", CHANNEL, "runout_centre_relative", "+.1f", 100),
+    ("docs/three_d.md", "| {} m (-10.6 %) |", CHANNEL, "runs.3d.runout_wall_m", ".4f", 1),
+    ("docs/three_d.md", "0.3490 m ({} %) |", CHANNEL, "runout_wall_relative", "+.1f", 100),
+    ("docs/three_d.md", "| {} s | 0.411 s |", CHANNEL, "runs.2d.front_settle_time_s", ".3f", 1),
+    ("docs/three_d.md", "| 0.399 s | {} s | |", CHANNEL, "runs.3d.front_settle_time_s", ".3f",
+     1),
+    ("docs/three_d.md", "| {} s | 0.551 s |", CHANNEL, "runs.2d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "| 0.491 s | {} s | |", CHANNEL, "runs.3d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "2D surface lies within {} mm of the 3D", CHANNEL,
+     _surfaces_max("centre", "distance_behind_front_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "and within {} mm of the wall's", CHANNEL,
+     _surfaces_max("wall", "distance_behind_front_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "mean height differences are at most {} mm", CHANNEL,
+     lambda d: max(abs(g[side]["height_difference_mean_m"]) for g in d["surfaces"].values()
+                   for side in ("centre", "wall")), ".2f", 1e3),
+    ("docs/three_d.md", "walls hold back by {} cm", CHANNEL,
+     lambda d: d["runs"]["3d"]["runout_centre_m"] - d["runs"]["3d"]["runout_wall_m"], ".1f",
+     100),
+    ("docs/three_d.md", "surface is up to {} mm from the 2D one", CHANNEL,
+     _surfaces_max("wall", "distance_max_m"), ".0f", 1e3),
+    ("docs/three_d.md", "(the centre's up to {} mm)", CHANNEL,
+     _surfaces_max("centre", "distance_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "(0.5 mm slack) on {} to", CHANNEL,
+     lambda d: min(g["between_share"] for g in d["surfaces"].values()), ".0f", 100),
+    ("docs/three_d.md", "on 53 to {} % of their common", CHANNEL,
+     lambda d: max(g["between_share"] for g in d["surfaces"].values()), ".0f", 100),
+    ("docs/three_d.md", "the stop is {} % later in 3D", CHANNEL,
+     lambda d: d["runs"]["3d"]["stop_time_s"] / d["runs"]["2d"]["stop_time_s"] - 1, ".0f",
+     100),
+    ("docs/three_d.md", "the front settles {} ms later", CHANNEL,
+     lambda d: d["runs"]["3d"]["front_settle_time_s"] - d["runs"]["2d"]["front_settle_time_s"],
+     ".0f", 1e3),
+    ("docs/three_d.md", "({} of its volume still above 1 mm/s", CREEP,
+     _snapshot(RUN_3D, 0.53, "flowing_share"), ".2f", 1),
+    ("docs/three_d.md", "run stops at {} s after 781", CHANNEL, "runs.3d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "after {} steps and 11 remeshes", CHANNEL, "runs.3d.steps", ",d", 1),
+    ("docs/three_d.md", "781 steps and {} remeshes", CHANNEL, "runs.3d.remeshes", "d", 1),
+    ("docs/three_d.md", "in {} processor seconds (the `channel` run", CHANNEL, "runs.3d.cpu_s",
+     ".0f", 1),
+    ("docs/three_d.md", "run again, gives it to the digit ({} s,", CREEP_OLD,
+     lambda d: d[RUN_3D]["stop_time_s"], ".3f", 1),
+    ("docs/three_d.md", "to the digit (0.883 s, {} steps)", CREEP_OLD, lambda d: d[RUN_3D]["steps"],
+     ",d", 1),
+    ("docs/three_d.md", "This one\nstops at {} s, the two runs", CHANNEL, "runs.3d.stop_time_s",
+     ".3f", 1),
+    ("docs/three_d.md", "earlier run, {} and 36 small cells", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "flowing_cells"), ".0f", 1),
+    ("docs/three_d.md", "62 and {} small cells", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "flowing_cells"), ".0f", 1),
+    ("docs/three_d.md", "small cells, {} % and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "0.29 % and\n  {} % of the volume", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "flowing at {} and 5.6 mm/s", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "max_speed_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "flowing at 8.4 and {} mm/s", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "max_speed_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "the fastest at x = {} and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: r["fastest_at_m"][0]), ".3f", 1),
+    ("docs/three_d.md", "0.325 and\n  {} m (the wall's", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, lambda r: r["fastest_at_m"][0]), ".3f", 1),
+    ("docs/three_d.md", "(the wall's front at {} m)", CREEP_OLD,
+     lambda d: d[RUN_3D]["runout_wall_m"], ".3f", 1),
+    ("docs/three_d.md", "{} mm from the side wall and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: 0.05 - r["fastest_at_m"][1]), ".1f", 1e3),
+    ("docs/three_d.md", "side wall and {} and 2.9 mm", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: r["fastest_at_m"][2]), ".1f", 1e3),
+    ("docs/three_d.md", "12.6 and {} mm\n  above the bed", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, lambda r: r["fastest_at_m"][2]), ".1f", 1e3),
+    ("docs/three_d.md", "free surface ({} and 76 %", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "on_free_surface"), ".0f", 100),
+    ("docs/three_d.md", "(67 and {} % of their volume)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "on_free_surface"), ".0f", 100),
+    ("docs/three_d.md", "mean pressure of {} and 29 Pa", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "pressure_mean_pa"), ".0f", 1),
+    ("docs/three_d.md", "of 32 and {} Pa", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "pressure_mean_pa"), ".0f", 1),
+    ("docs/three_d.md", "(mean yield ratio {} and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "yield_ratio_mean"), ".2f", 1),
+    ("docs/three_d.md", "ratio 1.17 and {})", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "yield_ratio_mean"), ".2f", 1),
+    ("docs/three_d.md", "half of their speed ({} and 57 %)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "across_share"), ".0f", 100),
+    ("docs/three_d.md", "speed (56 and {} %)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "across_share"), ".0f", 100),
+    ("docs/three_d.md", "(a mean {} and 1.7 mm/s)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "across_mean_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "mean 2.4 and {} mm/s)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "across_mean_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "edge keeps {} cells at", CREEP, _last(RUN_3D, "flowing_cells"), "d",
+     1),
+    ("docs/three_d.md", "cells at {} mm/s, 0.055 %", CREEP, _last(RUN_3D, "max_speed_m_s"),
+     ".1f", 1e3),
+    ("docs/three_d.md", "2.3 mm/s, {} % of the", CREEP, _last(RUN_3D, "flowing_share"), ".3f",
+     100),
+    ("docs/three_d.md", "(its fastest cell at\n  {} m/s)", CREEP, _last(RUN_2D, "max_speed_m_s"),
+     ".0e", 1),
+    ("docs/three_d.md", "with `numerics.tol = 1e-8` ({} iterations a step", PROBE,
+     "resumed_tol1e-8.window.iterations_per_step", ".0f", 1),
+    ("docs/three_d.md", "iterations a step instead of {})", PROBE,
+     "resumed_tol3e-4.window.iterations_per_step", ".0f", 1),
+    ("docs/three_d.md", "keeps the edge at\n  {} mm/s", PROBE,
+     _last("resumed_tol1e-8", "max_speed_m_s"), ".2f", 1e3),
+    ("docs/three_d.md", "3e-4 does ({} mm/s)", PROBE, _last("resumed_tol3e-4", "max_speed_m_s"),
+     ".2f", 1e3),
+    ("docs/three_d.md", "by the equivalent of {} mm/s", CREEP_OLD,
+     lambda d: d[RUN_3D]["window"]["volume_correction_surface_speed_m_s"], ".4f", 1e3),
+    ("docs/three_d.md", "holds up to {} % of the half", CREEP, _last(RUN_3D, "largest_cell_share"),
+     ".1f", 100),
+    ("docs/three_d.md", "volume ({} % in the\n  earlier run)", CREEP_OLD,
+     _last(RUN_3D, "largest_cell_share"), ".1f", 100),
+    ("docs/three_d.md", "earlier run), {} to 20 times", CREEP, _last(RUN_3D, "largest_cell_share"),
+     ".0f", 1e3),
+    ("docs/three_d.md", "13 to {} times the fraction", CREEP_OLD,
+     _last(RUN_3D, "largest_cell_share"), ".0f", 1e3),
+    ("docs/three_d.md", "one of the 2D run's {} triangles", CREEP, _last(RUN_2D, "cells"), "d", 1),
+    ("docs/three_d.md", "triangles up to\n  {} % of the section", CREEP,
+     _last(RUN_2D, "largest_cell_share"), ".1f", 100),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
     # --- the packing fraction (benchmarks/packing.py)
