@@ -98,6 +98,9 @@ CHANNEL = "three_d_collapse/channel_h0.04.json"
 CREEP, CREEP_OLD = "three_d_collapse/creep.json", "three_d_collapse/creep_ae713bc.json"
 PROBE = "three_d_collapse/creep_ae713bc_probe.json"
 RUN_3D, RUN_2D = "channel3d_h0.04", "channel2d_h0.04"
+SLOPE19 = "three_d_collapse/channel_h0.04_slope19.json"
+ERODIBLE_19_RUNOUT = json.loads((RESULTS / "erosion_slopes/erosion_slopes.json").read_text())[
+    "side-walls/rectangle-0mm-19"]["runout_m"]
 
 
 def _surfaces_max(side: str, key: str) -> Callable[[Any], float]:
@@ -559,6 +562,28 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "one of the 2D run's {} triangles", CREEP, _last(RUN_2D, "cells"), "d", 1),
     ("docs/three_d.md", "triangles up to\n  {} % of the section", CREEP,
      _last(RUN_2D, "largest_cell_share"), ".1f", 100),
+    ("docs/three_d.md", "2D\nrun comes to rest at {} s", SLOPE19, "runs.2d.stop_time_s", ".3f",
+     1),
+    ("docs/three_d.md", "with a runout of {} m (against the", SLOPE19, "runs.2d.runout_m", ".3f",
+     1),
+    ("docs/three_d.md", "the runout is {} % short", SLOPE19,
+     lambda d: 1 - d["runs"]["2d"]["runout_m"] / ERODIBLE_19_RUNOUT, ".0f", 100),
+    ("docs/three_d.md", "it was interrupted at {} s after", SLOPE19, "runs.3d.t_final", ".3f", 1),
+    ("docs/three_d.md", "after {} steps, still flowing", SLOPE19, "runs.3d.steps", ",d", 1),
+    ("docs/three_d.md", "centre-line front is at {} m against", SLOPE19, "runs.3d.runout_centre_m",
+     ".4f", 1),
+    ("docs/three_d.md", "the 2D front's\n{} m (", SLOPE19, "front_2d_at_3d_end_m", ".4f", 1),
+    ("docs/three_d.md", "0.8358 m ({} %)", SLOPE19, "front_centre_relative_at_3d_end", "+.1f",
+     100),
+    ("docs/three_d.md", "side wall {} % behind", SLOPE19,
+     lambda d: -d["front_wall_relative_at_3d_end"], ".1f", 100),
+    ("docs/three_d.md", "% behind ({} m)", SLOPE19, "runs.3d.runout_wall_m", ".4f", 1),
+    ("docs/three_d.md", "lies within {} mm of the centre-line surface and", SLOPE19,
+     lambda d: max(g["centre"]["distance_behind_front_max_m"] for t, g in d["surfaces"].items()
+                   if t != "final"), ".1f", 1e3),
+    ("docs/three_d.md", "surface and\n{} mm of the wall's", SLOPE19,
+     lambda d: max(g["wall"]["distance_behind_front_max_m"] for t, g in d["surfaces"].items()
+                   if t != "final"), ".1f", 1e3),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
     # --- the packing fraction (benchmarks/packing.py)
