@@ -15,7 +15,9 @@ for a slab alone on the bed at 22 deg, 2 mm (thinner than the model's h_stop, 2.
 end, the fluidity then, the nonlinear iterations (OUT/slab_fluidity.json).
 
 A variant is a law, or a law and switches joined by "/" ("nonlocal/no-slip+small-eta"):
-its overrides are the law's then each switch's. Runs go to OUT/runs/VARIANT/HEmm-SLOPE
+its overrides are the law's then each switch's (the layer's packing, switch d:
+"critical-layer", "loose-layer", "dense-layer", the slab at phi_c; their prediction is
+OUT/packing-prediction.md). Runs go to OUT/runs/VARIANT/HEmm-SLOPE
 (HE = 0: on the bed; ignored by git); OUT/slab.json keeps every run's figures, and a run
 already there with the same overrides is not run again (rerunning continues the table);
 OUT/slab-HEmm.md is the table: per variant and slope, (a), (b) and their ratio; OUT/slab-HEmm.png
