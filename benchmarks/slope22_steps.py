@@ -6,6 +6,7 @@ Run: python benchmarks/slope22_steps.py --run dt_max     (time.dt_max_slow = non
      python benchmarks/slope22_steps.py --run slow       (time.dt_max_slow = 0.01,
                                                           time.slow_courant = 0.01)
      python benchmarks/slope22_steps.py [--out benchmarks/results/slope22_steps]
+     python benchmarks/slope22_steps.py --progress slow   (a run so far, from its files)
 
 Each ``--run TAG`` is one ``granflow run`` process into OUT/runs/TAG/rectangle-rigid, timed
 from outside (``speed_targets.run``: processor time, wall time, load before it) and recorded
@@ -15,7 +16,10 @@ reference): steps, iterations, remeshes, rejected steps, processor time, and the
 changes of runout, flow duration, layer displaced and largest mobilised areas and the free
 surfaces' mean and max distances at the output times, each judged against the accuracy
 criteria of ``erodible_speed.CRITERIA``. Writes OUT/slope22_steps.json and
-OUT/slope22_steps.md and prints the table.
+OUT/slope22_steps.md and prints the table. ``--progress TAG`` reads a run's
+diagnostics.csv, finished or not, into OUT/progress-TAG.json: how far it went, its steps,
+how many were longer than dt_max, the flowing fraction at its last step, and its summary's
+status, remeshes and triangles (an interrupted run's summary holds them).
 
 Prediction (written before the runs): at 22 degrees the glass beads still flow at 3 s, so
 the cap rises only where the flow's RMS speed (the column, its deposit and the layer at
@@ -30,11 +34,14 @@ import argparse
 import sys
 from pathlib import Path
 
+import pandas as pd
 from collapse_runs import compare
 from common.results import read_results, report, write_results
 from erodible_speed import CRITERIA, row
 from speed_targets import PAIRS
 from speed_targets import run as run_process
+
+from granflow.io.run_dir import RunDir
 
 SCENARIO, ROW = PAIRS["slope22"][1]
 CAPS = {"dt_max": ["time.dt_max_slow=none"],
@@ -64,11 +71,30 @@ def table(record: dict, reference: str) -> list[str]:
     return [*lines, "", f"(changes against `{reference}`; criteria {CRITERIA})"]
 
 
+def progress(root: Path) -> dict:
+    """A run's steps so far (diagnostics.csv: one row a step), and those above dt_max."""
+    diag = pd.read_csv(root / "diagnostics.csv")
+    raised = diag["t"][diag["dt"] > 1e-3 * (1 + 1e-9)]
+    return {"t_s": float(diag["t"].iloc[-1]), "steps": len(diag),
+            "steps_above_dt_max": len(raised),
+            "last_step_above_dt_max_t_s": float(raised.max()) if len(raised) else None,
+            "iterations": int(diag["iterations"].sum()),
+            "flowing_fraction_last": float(diag["flowing_fraction"].iloc[-1])} | {
+                k: RunDir.summary(root).get(k) for k in ("status", "remeshes", "remeshed_moves",
+                                                         "rejected_steps", "n_triangles")}
+
+
 def main(argv: list[str]) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--run", choices=list(CAPS), help="run this cap (else: compare)")
+    parser.add_argument("--progress", choices=list(CAPS), help="a run so far, from its files")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/slope22_steps"))
     args = parser.parse_args(argv)
+    if args.progress:
+        found = progress(args.out / "runs" / args.progress / SCENARIO)
+        report(args.progress, found)
+        write_results(args.out, f"progress-{args.progress}", found)
+        return
     if args.run:
         result = run_process(SCENARIO, [*ROW, *CAPS[args.run]],
                              args.out / "runs" / args.run / SCENARIO)
