@@ -120,6 +120,28 @@ def _slab_ratio(variant: str, slope: int) -> Callable[[Any], float]:
     return ratio
 
 
+PACKED_LAYERS = [f"{law}/{bed}+small-eta+{packing}-layer"
+                 for law in ("drucker-prager", "glass-beads", "hysteretic", "nonlocal")
+                 for bed in ("no-slip", "material-bed") for packing in ("loose", "dense")]
+
+
+def _packed_extreme(key: str, reduce: Callable[..., float]) -> Callable[[Any], float]:
+    """The smallest or largest ``key`` of the runs over a loose or a dense layer."""
+    return lambda data: reduce(data[f"{v}|5mm|{s}"][key] for v in PACKED_LAYERS
+                               for s in (0, 10, 16, 19, 22))
+
+
+def _loose_over_dense(reduce: Callable[..., float]) -> Callable[[Any], float]:
+    """The slab's distance over the loose layer over that over the dense one, the smallest
+    or largest but the hysteretic law's."""
+    def value(data: Any) -> float:
+        return reduce(data[f"{law}/{bed}+small-eta+loose-layer|5mm|{s}"]["slab_distance_m"]
+                      / data[f"{law}/{bed}+small-eta+dense-layer|5mm|{s}"]["slab_distance_m"]
+                      for law in ("drucker-prager", "glass-beads", "nonlocal")
+                      for bed in ("no-slip", "material-bed") for s in (0, 10, 16, 19, 22))
+    return value
+
+
 def _against_paper_model(name: str) -> Callable[[Any], float]:
     """A level-bed run's runout against Drucker-Prager's on the Coulomb bed, |ratio - 1|."""
     def relative(data: Any) -> float:
@@ -529,6 +551,49 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/erosion.md",
      r"| drucker-prager (Coulomb bed, \(\eta\) = 1 Pa s, 2.5 mm cells) | {} |", SLAB,
      _slab_ratio("drucker-prager", 0), ".2f", 1),
+    # the layer's packing (d)
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"drucker-prager | {} /", SLAB,
+     _slab_ratio("drucker-prager/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"glass-beads | {} /", SLAB,
+     _slab_ratio("glass-beads/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"hysteretic | {} /", SLAB,
+     _slab_ratio("hysteretic/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"nonlocal | {} /", SLAB,
+     _slab_ratio("nonlocal/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"drucker-prager | {} /", SLAB,
+     _slab_ratio("drucker-prager/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"glass-beads | {} /", SLAB,
+     _slab_ratio("glass-beads/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"hysteretic | {} /", SLAB,
+     _slab_ratio("hysteretic/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"nonlocal | {} /", SLAB,
+     _slab_ratio("nonlocal/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md", "1.33 and ≈ 1.72 to 1.12, {} and", SLAB,
+     _slab_ratio("hysteretic/no-slip+small-eta+dense-layer", 19), ".2f", 1),
+    ("docs/erosion.md", "dense ratio of the distances is {} to", SLAB, _loose_over_dense(min),
+     ".3f", 1),
+    ("docs/erosion.md", "distances is 0.996 to {} for the other", SLAB, _loose_over_dense(max),
+     ".3f", 1),
+    ("docs/erosion.md", "`mass_relative_error_max` {} to", SLAB,
+     _packed_extreme("mass_relative_error_max", min), ".1e", 1),
+    ("docs/erosion.md", "`mass_relative_error_max` 5.5e-3 to {} (predicted", SLAB,
+     _packed_extreme("mass_relative_error_max", max), ".1e", 1),
     ("docs/model.md", "runs took {} nonlinear iterations against 3,309", SLAB_FLUIDITY,
      "5mm-zero.nonlinear_iterations", ",d", 1),
     ("docs/verification.md", "| rectangle | glass-beads | material | 0.687 | {} |", BED_MODELS,
