@@ -45,6 +45,15 @@ CYL_PAIR, CYL_CREEP = "cylinder_rest/cyl-compat-vs-cyl-auto.json", "cylinder_res
 CYL = "cylinder-erodible"
 
 
+SLOPE22_RUN = "slope22_steps/progress-slow.json"
+SLOPE22_PROFILE = "slope22_steps/profile-slow.json"
+
+
+def _share(category: str) -> Callable[[Any], float]:
+    """A category's share of a py-spy profile (benchmarks/profile_shares.py's names)."""
+    return lambda d: d["shares"][category]
+
+
 def _surfaces(reduce: str) -> Callable[[Any], float]:
     """The two MKL modes' cylinders: the largest mean or max free-surface distance (m)."""
     return lambda d: max(gap[reduce] for gap in d[CYL]["free_surfaces"].values())
@@ -643,6 +652,31 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      ERODIBLE_SPEED, "criteria.surface_max_mm", ".0f", 1),
     ("docs/performance.md", "The cylinder's rest rule moves by {} %: it is decided",
      ERODIBLE_SPEED, _stop_change("head-vs-slow", "cylinder-erodible"), ".0f", 1),
+    # --- the slope study's 22-degree row with the slow flow's cap (slope22_steps.py, py-spy)
+    ("docs/performance.md", "and stopped at t = {} s, before", SLOPE22_RUN, "t_s", ".2f", 1),
+    ("docs/performance.md", "The cap raised {} of its", SLOPE22_RUN, "steps_above_dt_max",
+     ",d", 1),
+    ("docs/performance.md", "of its {} steps, all in the", SLOPE22_RUN, "steps", ",d", 1),
+    ("docs/performance.md", "all in the first {} s, while", SLOPE22_RUN,
+     "last_step_above_dt_max_t_s", ".3f", 1),
+    ("docs/performance.md", "the beads keep {} % of the section", SLOPE22_RUN,
+     "flowing_fraction_last", ".0f", 100),
+    ("docs/performance.md", "flowing at {} s (`python benchmarks/slope22_steps.py", SLOPE22_RUN,
+     "t_s", ".2f", 1),
+    ("docs/performance.md", "py-spy over those {} s", SLOPE22_RUN, "t_s", ".2f", 1),
+    ("docs/performance.md", "the factorisation of (3.2) is {} % of the process", SLOPE22_PROFILE,
+     _share("factorisation (sparse LU)"), ".1f", 100),
+    ("docs/performance.md", "and its assembly {} %, remeshing", SLOPE22_PROFILE,
+     _share("assembly (matrix and right-hand side of (3.2))"), ".1f", 100),
+    ("docs/performance.md", "the state's transfer {} % (the moves", SLOPE22_PROFILE,
+     _share("remeshing and transfer"), ".1f", 100),
+    ("docs/performance.md", "remeshed before the step, {} %:", SLOPE22_PROFILE,
+     "remeshed_ahead", ".1f", 100),
+    ("docs/performance.md", "%: {} of its 237 remeshes", SLOPE22_RUN, "remeshed_moves", ",d", 1),
+    ("docs/performance.md", "of its {} remeshes), the layer's", SLOPE22_RUN, "remeshes", ",d",
+     1),
+    ("docs/performance.md", "the layer's tracking {} %. The remeshes", SLOPE22_PROFILE,
+     _share("erodible layer tracking"), ".1f", 100),
     # --- the erodible cylinder's rest stop under MKL's two modes (collapse_runs.py, rest_creep.py)
     ("docs/performance.md", "cylinder-erodible` rests at {} s (445 steps)", CYL_AUTO,
      f"{CYL}.stop_time_s", ".2f", 1),
