@@ -1,9 +1,9 @@
 """What a run prints is granflow's own: a short collapse through every path that reads the
 volume on a wall (two materials, a hysteretic friction, Picard's frozen wall load) prints
 nothing else on stdout or stderr (NGSolve's compiler once printed a line per coefficient
-it did not know, 16 to 80 per run); nor do long runs, a run of 200 remeshes and the default
-erodible collapse (NGSolve's profiler warned once its table of timers was full:
-"no more timer available (FESpace), reusing last one")."""
+it did not know, 16 to 80 per run); nor do long runs (with ``-m slow``), a run of 200
+remeshes and the default erodible collapse (NGSolve's profiler warned once its table of
+timers was full: "no more timer available (FESpace), reusing last one")."""
 
 from __future__ import annotations
 
@@ -37,8 +37,10 @@ def test_a_short_collapse_prints_only_granflows_lines(tmp_path: Path,
     prints_only_granflows_lines(CASE, tmp_path, monkeypatch)
 
 
+@pytest.mark.slow
 def test_a_run_of_200_remeshes_prints_only_granflows_lines(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The default suite's longest check (about 20 s of processor time): with ``-m slow``."""
     summary = prints_only_granflows_lines(REMESHING, tmp_path, monkeypatch)
     assert summary["remeshes"] >= 200
 

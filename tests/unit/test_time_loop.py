@@ -104,6 +104,18 @@ def test_a_quality_remesh_that_fails_leaves_the_run_on_its_valid_mesh() -> None:
     result = loop(FoldingMotion(failures=0), remesher).run()
     assert result.status == "completed" and result.steps == 10
     assert remesher.calls == 10 and result.skipped_remeshes == 10
+    assert result.remesh_failures == {"Exception": 10}
+
+
+def test_a_remesh_raising_a_defect_is_counted_by_its_type() -> None:
+    class BrokenRemesher(StubRemesher):
+        def remesh(self) -> None:
+            self.calls += 1
+            raise TypeError("transfer() takes 3 positional arguments but 4 were given")
+
+    result = loop(FoldingMotion(failures=0), BrokenRemesher(fails=True, wanted=True)).run()
+    assert result.status == "completed"
+    assert result.remesh_failures == {"TypeError": 10}
 
 
 class TinyStepSolver(StubSolver):

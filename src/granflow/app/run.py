@@ -193,6 +193,7 @@ class RunRecord(Outputs):
             "deposition_times_s": self.events["deposition"],  # surface edges onto the bed
             "final_profiles_t": self.final,   # profiles/*_final.csv: the last accepted state
             "skipped_remeshes": result.skipped_remeshes,
+            "remesh_failures": result.remesh_failures,    # remeshes that raised, by error
             "history_restarts": result.history_restarts,   # surface tension on/off
             "remeshed_moves": result.remeshed_moves,   # folds foreseen, remeshed before
             "nonlinear_iterations": result.nonlinear_iterations,

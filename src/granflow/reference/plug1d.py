@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy.linalg import solve_banded
@@ -262,6 +263,16 @@ def solve_plug1d(
         dz=dz,
         dt=dt,
     )
+    return _solve(height, slope_deg, friction_angle_deg, kinematic_viscosity, shear_rate,
+                  plug_base, t_end, gravity, dz, dt)
+
+
+@lru_cache(maxsize=32)
+def _solve(height: float, slope_deg: float, friction_angle_deg: float,
+           kinematic_viscosity: float, shear_rate: float, plug_base: float, t_end: float,
+           gravity: float, dz: float, dt: float) -> Plug1DSolution:
+    """The solution of ``solve_plug1d``, kept for its arguments: every plug-flow run (and
+    every test) of the same layer, time and grid shares one solve; its arrays are read-only."""
     s_src = source_term(slope_deg=slope_deg, friction_angle_deg=friction_angle_deg, gravity=gravity)
     s_src = max(s_src, 0.0)  # friction == slope may give -1e-18 by round-off
     n = max(4, math.ceil(height / dz - 1e-9))
@@ -305,9 +316,12 @@ def solve_plug1d(
     u_all[0] = 0.0
     u_all[1:] = u
     t_final = float(t_end)
+    u_final = u_all.copy()
+    for array in (z, u_final, history):
+        array.setflags(write=False)
     return Plug1DSolution(
         z=z,
-        u=u_all.copy(),
+        u=u_final,
         t=t_final,
         interface=float(history[-1, 1]),
         interface_history=history,

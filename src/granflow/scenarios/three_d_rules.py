@@ -23,15 +23,18 @@ def three_d(c: Config) -> bool:
 
 
 def three_d_problems(c: Config) -> Iterator[str]:
-    """What neither kind can have in 3D: a law not verified there, a hysteretic friction,
-    the augmented Lagrangian (its multipliers are 2 x 2 tensors), surface tension (built
-    on a section's boundary curve)."""
+    """What neither kind can have in 3D: a law not verified there, a packing fraction, a
+    hysteretic friction, the augmented Lagrangian (its multipliers are 2 x 2 tensors),
+    surface tension (built on a section's boundary curve)."""
     if not three_d(c):
         return
     m = c.material
     if m.rheology not in LAWS_3D:
         yield (f"material.rheology = {m.rheology!r} is not verified in 3D ({THREE_D}); "
                f"use one of {', '.join(map(repr, LAWS_3D))}")
+    if m.packing != "none":
+        yield (f"material.packing = {m.packing!r} is not verified in 3D ({THREE_D}); "
+               "use 'none'")
     if m.friction != "constant":
         yield (f"material.friction = {m.friction!r} is not verified in 3D ({THREE_D}); "
                "use 'constant'")

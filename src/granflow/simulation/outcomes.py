@@ -76,3 +76,4 @@ class RunResult:
     skipped_remeshes: int = 0        # quality remeshes that failed: the run went on without
     history_restarts: int = 0        # steps begun afresh after a jump of the forcing
     remeshed_moves: int = 0          # moves that would tangle, remeshed before the step
+    remesh_failures: dict[str, int] = field(default_factory=dict)  # error type -> count

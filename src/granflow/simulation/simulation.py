@@ -147,6 +147,7 @@ class Simulation:
     nonlinear_iterations: int = 0
     momentum_solves: int = 0
     skipped_remeshes: int = 0
+    remesh_failures: dict[str, int] = field(default_factory=dict)   # error type -> count
     history_restarts: int = 0            # steps begun afresh after a jump of the forcing
     remeshed_moves: int = 0              # moves that would tangle, remeshed before the step
     remeshed_this_step: bool = False
@@ -158,7 +159,8 @@ class Simulation:
     share: ClassVar[Share] = {
         "t": TIME, "step": COUNT, "dt": TIME, "rejected_steps": COUNT,
         "nonlinear_iterations": COUNT, "momentum_solves": COUNT,
-        "skipped_remeshes": may_lack(COUNT), "history_restarts": may_lack(COUNT),
+        "skipped_remeshes": may_lack(COUNT), "remesh_failures": may_lack(mapping(COUNT)),
+        "history_restarts": may_lack(COUNT),
         "remeshed_moves": may_lack(COUNT),
         "rejections": mapping(COUNT), "wall_time_s": TIME,
         "steps_policy": or_none(dataclass_of(AdaptiveStep, RampedStep)),
@@ -187,6 +189,7 @@ class Simulation:
             "nonlinear_iterations": self.nonlinear_iterations,
             "momentum_solves": self.momentum_solves,
             "skipped_remeshes": self.skipped_remeshes,
+            "remesh_failures": dict(self.remesh_failures),
             "history_restarts": self.history_restarts,
             "remeshed_moves": self.remeshed_moves,
             "rejections": dict(self.rejections),
@@ -203,6 +206,7 @@ class Simulation:
             setattr(self, key, state[key])
         self.rejections = dict(state["rejections"])
         self.skipped_remeshes = int(state.get("skipped_remeshes", 0))
+        self.remesh_failures = dict(state.get("remesh_failures", {}))
         self.history_restarts = int(state.get("history_restarts", 0))
         self.remeshed_moves = int(state.get("remeshed_moves", 0))
         self.elapsed_before = state["wall_time_s"]
@@ -275,10 +279,18 @@ class Simulation:
         try:
             self.remesher.remesh()
         except Exception as exc:  # (the mesher's own errors too) then a smaller step
-            self._remesh_error = f"; remeshing failed: {exc}"
+            self._remesh_failed(exc)
             return False
         self.remeshed_moves += 1
         return True
+
+    def _remesh_failed(self, exc: Exception) -> None:
+        """A remesh that raised: counted by the error's type (``remesh_failures`` in
+        summary.json), so that a defect raising on every remesh is seen, not only a
+        run going on with the mesh it had."""
+        self._remesh_error = f"; remeshing failed: {type(exc).__name__}: {exc}"
+        name = type(exc).__name__
+        self.remesh_failures[name] = self.remesh_failures.get(name, 0) + 1
 
     def _undo(self) -> None:
         if self.mesh_motion is not None:
@@ -301,7 +313,7 @@ class Simulation:
                 self.remesher.remesh()  # a tangling move or a stall: new mesh, same dt
                 return None
             except Exception as exc:  # (the mesher's own errors too) then smaller steps
-                self._remesh_error = f"; remeshing failed: {exc}"
+                self._remesh_failed(exc)
         self._rejections_in_row += 1
         try:
             if self._rejections_in_row > self.max_consecutive_rejections:
@@ -390,6 +402,7 @@ class Simulation:
             nonlinear_iterations=self.nonlinear_iterations,
             linear_solves=self.linear_solves, wall_time_s=wall, rejections=dict(self.rejections),
             skipped_remeshes=self.skipped_remeshes, history_restarts=self.history_restarts,
+            remesh_failures=dict(self.remesh_failures),
             remeshed_moves=self.remeshed_moves)
 
     def _accept(self, attempt: _Attempt) -> None:
@@ -408,5 +421,6 @@ class Simulation:
         if self.remesher is not None and self.remesher.needs_remesh():
             try:
                 self.remesher.remesh()
-            except Exception:   # (the mesher's own errors too) the mesh in use is valid:
-                self.skipped_remeshes += 1   # go on; a tangling step asks again
+            except Exception as exc:   # (the mesher's own errors too) the mesh in use is
+                self._remesh_failed(exc)     # valid: go on; a tangling step asks again
+                self.skipped_remeshes += 1
