@@ -21,6 +21,12 @@ from granflow.simulation.simulation import Simulation
 from granflow.state.spec import COUNT, REAL, Share, list_of, number
 
 
+def _no_cells(old: Any, new: Any) -> None:
+    """A piecewise-constant field (a packing's) has no 3D carrier: the rules refuse a
+    packing in 3D (``three_d_rules.py``)."""
+    raise NotImplementedError("a piecewise-constant field is not carried across a 3D remesh")
+
+
 @dataclass
 class ChannelRemesher:
     """The loop's ``Remesher`` for a 3D column (``simulation.py``)."""
@@ -63,7 +69,7 @@ class ChannelRemesher:
         transfer = ChannelStateTransfer(new.solver.space, setup.wall_labels(),
                                         setup.config.boundary.penalty, SPACE)
         new.solver.inherit(old.solver, Carriers(transfer.apply, transfer_tensor,
-                                                transfer_vertices))
+                                                transfer_vertices, _no_cells))
         new.mover.inherit(old.mover)
         self.changes.append(change)
         self.unrecorded_change += change
