@@ -41,7 +41,27 @@ def test_walls_held_strongly_flow_as_the_penalty_lets_them(tmp_path: Path) -> No
     moved = penalty.runout_m - L0                            # 1.2 mm
     assert moved > 1e-3
     assert strong.runout_m - L0 == pytest.approx(moved, rel=1e-4)   # measured: 8e-6
-    assert strong.n_dofs == penalty.n_dofs                   # the same space, fewer free
+    assert strong.extra["n_dofs"] == penalty.extra["n_dofs"]   # the same space, fewer free
+
+
+@pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
+                    reason='needs the MPI extra: pip install -e ".[mpi]"')
+def test_walls_held_strongly_on_two_ranks_as_on_one(tmp_path: Path) -> None:
+    """``mpiexec -n 2 granflow run``: the distributed solve holds the same components (the
+    ranks update their spaces together), the same steps and runout as one process."""
+    assert HAVE_MPI, 'CI installs the MPI extra: pip install -e ".[mpi]"'
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    sets = [arg for key in STRONG for arg in ("--set", key)]
+    done = subprocess.run([str(MPIEXEC), "-n", "2", str(MPIEXEC.parent / "granflow"), "run",
+                           "rectangle-rigid", *sets, "--out", str(tmp_path / "two"),
+                           "--quiet"], capture_output=True, text=True, timeout=600, env=env,
+                          check=False)
+    assert done.returncode == 0, done.stderr[-2000:]
+    two = json.loads((tmp_path / "two" / "summary.json").read_text())
+    one = run("rectangle-rigid", STRONG, out=tmp_path / "one", progress=False).summary
+    assert two["status"] == one.status == "completed"
+    assert two["steps"] == one.steps
+    assert two["runout_m"] == pytest.approx(one.runout_m, rel=TOL)
 
 
 @pytest.mark.parametrize("kind, sets, words", [
