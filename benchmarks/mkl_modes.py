@@ -19,15 +19,13 @@ OUT/mkl_modes.json.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import statistics
-import subprocess
 import sys
-import time
 from pathlib import Path
 
+from common.process import timed_run
 from common.results import report, write_json, write_markdown
 
 CASES = {
@@ -43,19 +41,11 @@ FIGURES = ["steps", "nonlinear_iterations", "n_triangles", "runout_m", "stop_tim
 
 def run(scenario: str, sets: list[str], mode: str, out: Path) -> dict:
     """One ``granflow run`` with MKL_CBWR = ``mode``: its times and its figures."""
-    env = {**os.environ, "MKL_CBWR": mode}
-    command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out),
-               "--force", "--quiet", *(a for o in sets for a in ("--set", o))]
-    load = os.getloadavg()[0]
-    start = time.perf_counter()
-    child = subprocess.Popen(command, stdout=subprocess.DEVNULL, env=env)
-    _, status, usage = os.wait4(child.pid, 0)
-    wall = time.perf_counter() - start
-    if status != 0:
-        raise RuntimeError(f"{' '.join(command)} exited with status {status}")
-    summary = json.loads((out / "summary.json").read_text())
-    return {"wall_s": wall, "cpu_s": usage.ru_utime + usage.ru_stime, "load_before": load,
-            "loop_wall_s": summary.get("wall_time_s")} | {k: summary.get(k) for k in FIGURES}
+    result = timed_run(scenario, sets, out, env={"MKL_CBWR": mode})
+    summary = result["summary"]
+    return {"wall_s": result["process_wall_time_s"], "cpu_s": result["process_cpu_time_s"],
+            "load_before": result["load_before"], "loop_wall_s": summary.get("wall_time_s")
+            } | {k: summary.get(k) for k in FIGURES}
 
 
 def measure(name: str, repeat: int, out: Path) -> dict:

@@ -40,14 +40,13 @@ prints the tables.
 from __future__ import annotations
 
 import argparse
-import json
-import os
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+from common.process import timed_run
 from common.results import read_results, report, write_json, write_markdown
 from erosion_slopes import overrides as slope_overrides
 
@@ -79,27 +78,11 @@ KEYS = ["status", "wall_time_s", "steps", "rejected_steps", "nonlinear_iteration
 
 
 def run(scenario: str, sets: list[str], out: Path, src: Path | None = None) -> dict:
-    """One ``granflow run`` in a new process: its wall time, the system's account of it
-    (processor time, peak memory, faults, switches), the load before it, its summary."""
-    env = dict(os.environ)
-    if src is not None:
-        env["PYTHONPATH"] = str(src)
-    command = [sys.executable, "-m", "granflow", "run", scenario, "--out", str(out),
-               "--force", "--quiet", *(arg for o in sets for arg in ("--set", o))]
-    load = os.getloadavg()[0]
-    start = time.perf_counter()
-    child = subprocess.Popen(command, stdout=subprocess.DEVNULL, env=env)
-    _, status, usage = os.wait4(child.pid, 0)
-    wall = time.perf_counter() - start
-    if status != 0:
-        raise RuntimeError(f"{' '.join(command)} exited with status {status}")
-    summary = json.loads((out / "summary.json").read_text())
-    return {"process_wall_time_s": wall,
-            "process_cpu_time_s": usage.ru_utime + usage.ru_stime,
-            "user_s": usage.ru_utime, "system_s": usage.ru_stime,
-            "peak_memory_mb": usage.ru_maxrss / 1024, "minor_faults": usage.ru_minflt,
-            "involuntary_switches": usage.ru_nivcsw, "voluntary_switches": usage.ru_nvcsw,
-            "load_before": load} | {k: summary.get(k) for k in KEYS}
+    """One ``granflow run`` in a new process: its times, the load before it, its summary's
+    KEYS."""
+    result = timed_run(scenario, sets, out, src=src)
+    summary = result.pop("summary")
+    return result | {k: summary.get(k) for k in KEYS}
 
 
 class Busy:
