@@ -9,8 +9,9 @@ Writes (and prints) for the times both runs' diagnostics reach: each run's steps
 there, the largest difference (the strong run interpolated linearly in t to the penalty
 run's steps) of the front along the centre line and at the side wall (m, relative to the
 front's largest displacement from its start, and up to each output time), of the kinetic
-energy and of the volume; and the mean and largest distance between the free surfaces
-along the centre line and at the wall at each output time both wrote. The runs are made by
+energy and of the volume; each run's last row (time, fronts, largest speed, flowing
+fraction); and the mean and largest distance between the free surfaces along the centre
+line and at the wall at each output time both wrote. The runs are made by
 benchmarks/collapse_runs.py (docs/three_d.md gives the commands).
 """
 
@@ -42,6 +43,9 @@ def compare(penalty: Path, strong: Path) -> dict:
             out[f"{key}_max_difference_by_time"] = {
                 f"{t:.3f}": float(diff[times <= t + 1e-12].max())
                 for t in (*_output_times(penalty), float(end))}
+    out["last_rows"] = {name: {key: float(d[key][-1]) for key in (
+        "t", "front_x_centre", "front_x_side", "max_speed", "flowing_fraction")}
+        for name, d in (("penalty", a), ("strong", b))}
     for kind in ("free_surface", "free_surface_wall"):
         out[kind] = {f"{t:.3f}": {"mean_m": mean, "max_m": worst} for t, (mean, worst)
                      in surface_distances(penalty, strong, kind).items()}
