@@ -15,7 +15,9 @@ for a slab alone on the bed at 22 deg, 2 mm (thinner than the model's h_stop, 2.
 end, the fluidity then, the nonlinear iterations (OUT/slab_fluidity.json).
 
 A variant is a law, or a law and switches joined by "/" ("nonlocal/no-slip+small-eta"):
-its overrides are the law's then each switch's. Runs go to OUT/runs/VARIANT/HEmm-SLOPE
+its overrides are the law's then each switch's (the layer's packing, switch d:
+"critical-layer", "loose-layer", "dense-layer", the slab at phi_c; their prediction is
+OUT/packing-prediction.md). Runs go to OUT/runs/VARIANT/HEmm-SLOPE
 (HE = 0: on the bed; ignored by git); OUT/slab.json keeps every run's figures, and a run
 already there with the same overrides is not run again (rerunning continues the table);
 OUT/slab-HEmm.md is the table: per variant and slope, (a), (b) and their ratio; OUT/slab-HEmm.png
@@ -59,6 +61,8 @@ LAWS = {
     "nonlocal": ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
                  "material.grain_diameter=0.00053"],
 }
+PACKED_SLAB = ["material.packing=critical-state", "material.density=1500.0",
+               "layer.packing=critical-state"]
 SWITCHES = {
     "no-slip": ["boundary.bed=no-slip"],          # (a) the bed: rough, does not slide
     "material-bed": ["boundary.bed=material"],   # (a) the bed: the material's own law
@@ -68,17 +72,25 @@ SWITCHES = {
     "fine-band": ["mesh.size=0.0003125", "mesh.layer_cells=16"],
     "side-walls": ["boundary.channel_width=0.1"],   # (e) the experiments' 10 cm channel
     "zero-fluidity": ["boundary.bed_fluidity=zero"],   # nonlocal: g = 0 on the Coulomb bed
+    # (d) the layer's packing (critical-state defaults: phi_c 0.60, a 0, K 4): the slab at
+    # phi_c (1500 kg/m^3 over grains of 2500), the layer at phi_c, loose (0.58) or dense (0.62)
+    "critical-layer": [*PACKED_SLAB, "layer.density=1500.0"],
+    "loose-layer": [*PACKED_SLAB, "layer.density=1450.0"],
+    "dense-layer": [*PACKED_SLAB, "layer.density=1550.0"],
 }
 TABLE = [f"{law}{suffix}" for law in LAWS for suffix in (
     "", "/no-slip", "/material-bed", "/small-eta", "/fine-band", "/side-walls",
     "/no-slip+small-eta")] + ["nonlocal/zero-fluidity"] + [
     # run after the table, where its answer pointed (not in the prediction)
-    f"{law}/material-bed+small-eta" for law in LAWS if law != "drucker-prager"]
+    f"{law}/material-bed+small-eta" for law in LAWS if law != "drucker-prager"] + [
+    # (d) run after the table, its prediction in packing-prediction.md
+    f"{law}/{bed}+small-eta+{packing}-layer" for bed in ("no-slip", "material-bed")
+    for law in LAWS for packing in ("critical", "loose", "dense")]
 COMMON = ["output.progress=false", "time.output_times=[]"]
 KEYS = ["status", "t_final", "steps", "nonlinear_iterations", "rejected_steps",
         "slab_distance_m", "slab_speed_m_s", "stop_time_s", "layer_distance_m",
         "layer_moved_depth_m", "bed_slip_m_s", "surface_speed_m_s", "n_triangles",
-        "wall_time_s"]
+        "wall_time_s", "packing_min", "packing_max", "mass_relative_error_max"]
 
 
 def overrides(variant: str, he: float, slope: float, speed: float) -> list[str]:
@@ -99,9 +111,13 @@ def key(variant: str, he: float, slope: float) -> str:
 
 
 def run(variant: str, he: float, slope: float, speed: float, out: Path,
-        done: dict | None) -> dict:
-    """One run, or its row from the record when it ran with the same overrides."""
+        done: dict | None, results: dict) -> dict:
+    """One run, or its row from the record when it (or another variant's run: the layer's
+    packing switches share their run on the bed) ran with the same overrides."""
     found = overrides(variant, he, slope, speed)
+    if not done or done.get("overrides") != found:
+        done = next((dict(row, variant=variant) for row in results.values()
+                     if row.get("overrides") == found), done)
     folder = out / "runs" / variant.replace("/", "_") / f"{1e3 * he:g}mm-{slope:g}"
     if done and done.get("overrides") == found and done.get("status") in ("completed",
                                                                          "stopped"):
@@ -250,7 +266,7 @@ def main() -> None:
                 for he in (0.0, args.thickness):
                     name = key(variant, he, slope)
                     results[name] = run(variant, he, slope, args.speed, args.out,
-                                        results.get(name))
+                                        results.get(name), results)
                     report(name, {k: results[name].get(k) for k in (
                         "status", "slab_distance_m", "stop_time_s", "slab_speed_m_s",
                         "cpu_s")})

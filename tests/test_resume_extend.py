@@ -12,6 +12,7 @@ import json
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -170,3 +171,44 @@ def test_a_nonlocal_run_continued_past_a_checkpoint_equals_it_resumed(tmp_path: 
     surface = Path("profiles") / "free_surface_final.csv"
     assert (resumed.root / surface).read_bytes() == (
         tmp_path / "continued" / surface).read_bytes()
+
+
+# The erodible set-up above with a packing fraction: a dense column (phi_0 = 0.62) over a
+# loose layer (0.58), the mass kept by the free-surface fix, phi carried through remeshes
+PACKING = {**ERODIBLE, "material.packing": "critical-state", "layer.packing": "critical-state",
+           "layer.density": 1450.0, "output.progress": False}
+PACKING_KILLED_AT = 130      # a checkpoint after the first remesh (step 123), before the second
+
+
+def test_a_killed_packing_run_resumes_to_the_same_result(tmp_path: Path) -> None:
+    """The run killed right after a checkpoint that follows a remesh, resumed, is the
+    uninterrupted run: every summary figure (but the wall time and the resume's own flag,
+    the packing's range and mass error among them), every diagnostics row and the free
+    surface to the digit."""
+    with pytest.MonkeyPatch.context() as patch:
+        def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
+            path = write_checkpoint(run_dir, state)
+            if state.step == PACKING_KILLED_AT:
+                shutil.copytree(run_dir.root, tmp_path / "killed",
+                                ignore=shutil.ignore_patterns(".granflow.lock"))
+            return path
+        patch.setattr(runner, "write_checkpoint", copy_at)
+        granflow.run("trapezoid-erodible", PACKING, tmp_path / "uninterrupted")
+    killed_at = pd.read_csv(tmp_path / "killed" / "diagnostics.csv")["t"].iloc[-1]
+    assert summary(tmp_path / "killed")["status"] == "running"
+    resumed = granflow.resume(tmp_path / "killed", progress=False)
+    first, again = summary(tmp_path / "uninterrupted"), summary(resumed.root)
+    assert first["status"] == "completed"
+    remeshed = np.array(first["remesh_times_s"])
+    assert (remeshed <= killed_at).any() and (remeshed > killed_at).any()   # before, after
+    assert first["packing_min"] < 0.58 + 1e-3 and first["packing_max"] > 0.62 - 1e-3
+    assert first["volume_relative_error"] != 0.0              # the packing changed
+    assert again["resumed"] is True
+    own = {"wall_time_s", "resumed"}
+    assert {k: v for k, v in again.items() if k not in own} == {
+        k: v for k, v in first.items() if k not in own}
+    pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "uninterrupted" / "diagnostics.csv"),
+                                  resumed.diagnostics, rtol=0, atol=0)
+    surface = Path("profiles") / "free_surface_final.csv"
+    assert (resumed.root / surface).read_bytes() == (
+        tmp_path / "uninterrupted" / surface).read_bytes()

@@ -1,5 +1,6 @@
 """The rigid bed's laws (``physics/bed.py``): the material bed is each law's friction at the
-slip's inertial number I_b = |u_T| / sqrt(P / rho_s); Drucker-Prager's is its Coulomb bed."""
+slip's inertial number I_b = |u_T| / sqrt(P / rho_s); Drucker-Prager's is its Coulomb bed;
+with a packing fraction it adds the dilatancy K (phi - phi_eq(I_b))."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import pytest
 from granflow.physics import CoulombFriction, DruckerPrager, Hysteretic, MuI, NonlocalFluidity
 from granflow.physics.bed import MaterialBed, NoSlip
 from granflow.physics.hysteresis import Relaxation
+from granflow.physics.packing import CriticalState, Dilatant
 from granflow.physics.regions import TwoMaterials
 
 SLIP = np.array([0.0, 1e-4, 0.01, 0.3, 2.0])
@@ -70,3 +72,37 @@ def test_no_slip_is_the_penalty_whatever_the_load() -> None:
     np.testing.assert_array_equal(drag, np.full(len(SLIP), 1e12))
     with pytest.raises(ValueError, match="penalty"):
         NoSlip(0.0)
+
+
+def test_a_packings_bed_adds_the_dilatancy_at_the_beds_inertial_number() -> None:
+    """Glass beads' mu(I) with a packing: tau_b / P = mu(I_b) + K (phi - phi_eq(I_b)),
+    phi_eq = max(phi_c - a I_b, phi_min), both written out here from their definitions; a
+    dense packing raises the bed's friction, a loose one lowers it, and one so loose that
+    the sum is negative gives no traction (the bed does not push)."""
+    state = CriticalState(critical=0.60, slope=0.2, dilatancy=4.0, loosest=0.5, initial=0.58,
+                          grain_diameter=0.00053, grain_density=2500.0, eps=1e-6)
+    departure = np.array([0.04, -0.04, 0.02, -0.03, -0.08])      # phi - phi_0, per point
+    slip = np.array([0.05, 0.05, 0.5, 0.2, 1e-3])
+    load = np.array([150.0, 150.0, 400.0, 100.0, 150.0])
+    tau = MaterialBed(Dilatant(BEADS, state, departure), EPS_F).traction(slip, load)
+    inertial = slip / np.sqrt(load / 2500.0)
+    mu_s, mu_2 = math.tan(math.radians(20.9)), math.tan(math.radians(32.76))
+    mu = mu_s + (mu_2 - mu_s) * inertial / (0.279 + inertial)
+    tan_psi = 4.0 * (0.58 + departure - np.maximum(0.60 - 0.2 * inertial, 0.5))
+    np.testing.assert_allclose(tau / load, np.maximum(mu + tan_psi, 0.0), rtol=1e-6)
+    assert tau[0] > BEADS.sliding_stress(slip, load)[0] > tau[1]   # dense > beads > loose
+    assert tau[-1] == 0.0 and (mu + tan_psi)[-1] < 0               # not a push
+
+
+def test_drucker_pragers_bed_with_a_packing_is_a_coulomb_bed_at_mu_plus_tan_psi() -> None:
+    """With a = 0 (phi_eq = phi_c): Drucker-Prager's material bed at a uniform phi is the
+    Coulomb bed at the angle whose tangent is tan(25.5 deg) + K (phi - phi_c)."""
+    law = DruckerPrager(viscosity=1.0, friction_angle_deg=25.5, eps=1e-6)
+    for phi in (0.62, 0.58):
+        state = CriticalState(critical=0.60, slope=0.0, dilatancy=4.0, loosest=0.5,
+                              initial=phi, grain_diameter=5e-4, grain_density=2500.0,
+                              eps=1e-6)
+        material = MaterialBed(Dilatant(law, state), EPS_F).drag_coefficient_sq(SLIP**2, LOAD)
+        angle = math.degrees(math.atan(math.tan(math.radians(25.5)) + 4.0 * (phi - 0.60)))
+        coulomb = CoulombFriction(angle, EPS_F).drag_coefficient_sq(SLIP**2, LOAD)
+        np.testing.assert_allclose(material, coulomb, rtol=1e-12)

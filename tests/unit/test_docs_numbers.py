@@ -104,6 +104,34 @@ def _apart(key: str, scale: float = 100.0) -> Callable[[Any], float]:
     return lambda data: scale * abs(data[key] / one[key] - 1)
 
 
+CHANNEL = "three_d_collapse/channel_h0.04.json"
+CREEP, CREEP_OLD = "three_d_collapse/creep.json", "three_d_collapse/creep_ae713bc.json"
+PROBE = "three_d_collapse/creep_ae713bc_probe.json"
+RUN_3D, RUN_2D = "channel3d_h0.04", "channel2d_h0.04"
+SLOPE19 = "three_d_collapse/channel_h0.04_slope19.json"
+ERODIBLE_19_RUNOUT = json.loads((RESULTS / "erosion_slopes/erosion_slopes.json").read_text())[
+    "side-walls/rectangle-0mm-19"]["runout_m"]
+
+
+def _surfaces_max(side: str, key: str) -> Callable[[Any], float]:
+    """The largest ``key`` of the channel's 3D ``side`` surface against 2D, any time."""
+    return lambda d: max(g[side][key] for g in d["surfaces"].values())
+
+
+def _snapshot(run: str, t: float, key: str | Callable[[Any], float],
+              scale: float = 1.0) -> Callable[[Any], float]:
+    """A creep record's snapshot figure at the snapshot nearest ``t`` (s)."""
+    def value(data: Any) -> float:
+        row = min(data[run]["snapshots"], key=lambda r: abs(r["t"] - t))
+        return scale * (key(row) if callable(key) else row[key])
+    return value
+
+
+def _last(run: str, key: str) -> Callable[[Any], float]:
+    """A creep record's figure at its last snapshot."""
+    return lambda data: data[run]["snapshots"][-1][key]
+
+
 def _at(key: str, t: str) -> Callable[[Any], float]:
     """A plane-strain record's ``key`` at output time ``t`` (its keys hold dots)."""
     return lambda data: data[key][t]
@@ -119,6 +147,28 @@ def _slab_ratio(variant: str, slope: int) -> Callable[[Any], float]:
         return (data[f"{variant}|5mm|{slope}"]["slab_distance_m"]
                 / data[f"{variant}|0mm|{slope}"]["slab_distance_m"])
     return ratio
+
+
+PACKED_LAYERS = [f"{law}/{bed}+small-eta+{packing}-layer"
+                 for law in ("drucker-prager", "glass-beads", "hysteretic", "nonlocal")
+                 for bed in ("no-slip", "material-bed") for packing in ("loose", "dense")]
+
+
+def _packed_extreme(key: str, reduce: Callable[..., float]) -> Callable[[Any], float]:
+    """The smallest or largest ``key`` of the runs over a loose or a dense layer."""
+    return lambda data: reduce(data[f"{v}|5mm|{s}"][key] for v in PACKED_LAYERS
+                               for s in (0, 10, 16, 19, 22))
+
+
+def _loose_over_dense(reduce: Callable[..., float]) -> Callable[[Any], float]:
+    """The slab's distance over the loose layer over that over the dense one, the smallest
+    or largest but the hysteretic law's."""
+    def value(data: Any) -> float:
+        return reduce(data[f"{law}/{bed}+small-eta+loose-layer|5mm|{s}"]["slab_distance_m"]
+                      / data[f"{law}/{bed}+small-eta+dense-layer|5mm|{s}"]["slab_distance_m"]
+                      for law in ("drucker-prager", "glass-beads", "nonlocal")
+                      for bed in ("no-slip", "material-bed") for s in (0, 10, 16, 19, 22))
+    return value
 
 
 def _against_paper_model(name: str) -> Callable[[Any], float]:
@@ -442,13 +492,6 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "({} s with what they call)", REST_1,
      lambda d: next(r["cumulative_s"] for r in d["profile"]
                     if "plane_section" in r["function"]), ".1f", 1),
-    ("docs/three_d.md", "the\n2D runout is {} m", REST_2D, "runout_m", ".4f", 1),
-    ("docs/three_d.md", "3D centre-line runout {} % longer", REST_1,
-     lambda d: 100 * (d["runout_m"] / json.loads((RESULTS / REST_2D).read_text())[
-         "runout_m"] - 1), ".1f", 1),
-    ("docs/three_d.md", "against the prediction: {} s in 2D", REST_2D, "stop_time_s",
-     ".3f", 1),
-    ("docs/three_d.md", "in 2D, {} s in 3D,", REST_1, "stop_time_s", ".3f", 1),
     ("docs/three_d.md", "| 1 | {} s |", REST_1, "stop_time_s", ".3f", 1),
     ("docs/three_d.md", "| 1 | 0.883 s | {} m,", REST_1, "runout_m", ".4f", 1),
     ("docs/three_d.md", "| 1,309 | 3,003 | 16 | {} s | 507 MB |", REST_1, "cpu_s", ".0f", 1),
@@ -459,6 +502,168 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      100),
     ("docs/three_d.md", "and {} mm apart behind the", PLANE_20,
      _at("surface_distance_behind_front_max_m", "0.2"), ".2f", 1e3),
+    # --- the 10 cm channel against 2D, and the 3D rest stop (three_d_collapse.py channel,
+    #     three_d_creep.py)
+    ("docs/three_d.md", "| runout | {} m | 0.3973 m", CHANNEL, "runs.2d.runout_m", ".4f", 1),
+    ("docs/three_d.md", "| 0.3902 m | {} m (+1.8 %)", CHANNEL, "runs.3d.runout_centre_m",
+     ".4f", 1),
+    ("docs/three_d.md", "0.3973 m ({} %) |", CHANNEL, "runout_centre_relative", "+.1f", 100),
+    ("docs/three_d.md", "| {} m (-10.6 %) |", CHANNEL, "runs.3d.runout_wall_m", ".4f", 1),
+    ("docs/three_d.md", "0.3490 m ({} %) |", CHANNEL, "runout_wall_relative", "+.1f", 100),
+    ("docs/three_d.md", "| {} s | 0.411 s |", CHANNEL, "runs.2d.front_settle_time_s", ".3f", 1),
+    ("docs/three_d.md", "| 0.399 s | {} s | |", CHANNEL, "runs.3d.front_settle_time_s", ".3f",
+     1),
+    ("docs/three_d.md", "| {} s | 0.551 s |", CHANNEL, "runs.2d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "| 0.491 s | {} s | |", CHANNEL, "runs.3d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "2D surface lies within {} mm of the 3D", CHANNEL,
+     _surfaces_max("centre", "distance_behind_front_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "and within {} mm of the wall's", CHANNEL,
+     _surfaces_max("wall", "distance_behind_front_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "mean height differences are at most {} mm", CHANNEL,
+     lambda d: max(abs(g[side]["height_difference_mean_m"]) for g in d["surfaces"].values()
+                   for side in ("centre", "wall")), ".2f", 1e3),
+    ("docs/three_d.md", "walls hold back by {} cm", CHANNEL,
+     lambda d: d["runs"]["3d"]["runout_centre_m"] - d["runs"]["3d"]["runout_wall_m"], ".1f",
+     100),
+    ("docs/three_d.md", "surface is up to {} mm from the 2D one", CHANNEL,
+     _surfaces_max("wall", "distance_max_m"), ".0f", 1e3),
+    ("docs/three_d.md", "(the centre's up to {} mm)", CHANNEL,
+     _surfaces_max("centre", "distance_max_m"), ".1f", 1e3),
+    ("docs/three_d.md", "(0.5 mm slack) on {} to", CHANNEL,
+     lambda d: min(g["between_share"] for g in d["surfaces"].values()), ".0f", 100),
+    ("docs/three_d.md", "on 53 to {} % of their common", CHANNEL,
+     lambda d: max(g["between_share"] for g in d["surfaces"].values()), ".0f", 100),
+    ("docs/three_d.md", "the stop is {} % later in 3D", CHANNEL,
+     lambda d: d["runs"]["3d"]["stop_time_s"] / d["runs"]["2d"]["stop_time_s"] - 1, ".0f",
+     100),
+    ("docs/three_d.md", "the front settles {} ms later", CHANNEL,
+     lambda d: d["runs"]["3d"]["front_settle_time_s"] - d["runs"]["2d"]["front_settle_time_s"],
+     ".0f", 1e3),
+    ("docs/three_d.md", "({} of its volume still above 1 mm/s", CREEP,
+     _snapshot(RUN_3D, 0.53, "flowing_share"), ".2f", 1),
+    ("docs/three_d.md", "above 1 mm/s\nat {} s, after the 2D", CREEP, _snapshot(RUN_3D, 0.53, "t"),
+     ".2f", 1),
+    ("docs/three_d.md", "ae713bc and stopped at\n{} s;", REST_1, "stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "the earlier code between {} and", CREEP_OLD,
+     lambda d: d[RUN_3D]["snapshots"][0]["t"], ".2f", 1),
+    ("docs/three_d.md", "between 0.60 and {} s, `creep.json`", CREEP_OLD,
+     lambda d: d[RUN_3D]["snapshots"][-1]["t"], ".2f", 1),
+    ("docs/three_d.md", "**Where**: at {} s and 0.84 s", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "t"), ".2f", 1),
+    ("docs/three_d.md", "at 0.60 s and {} s of the earlier", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "t"), ".2f", 1),
+    ("docs/three_d.md", "slivers whose share, {} % here", CREEP, _last(RUN_3D, "flowing_share"),
+     ".3f", 100),
+    ("docs/three_d.md", "here\n  and {} to 0.29 %", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "and 0.13 to {} % in the earlier run", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "run stops at {} s after 781", CHANNEL, "runs.3d.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "after {} steps and 11 remeshes", CHANNEL, "runs.3d.steps", ",d", 1),
+    ("docs/three_d.md", "781 steps and {} remeshes", CHANNEL, "runs.3d.remeshes", "d", 1),
+    ("docs/three_d.md", "in {} processor seconds (the `channel` run", CHANNEL, "runs.3d.cpu_s",
+     ".0f", 1),
+    ("docs/three_d.md", "run again, gives it to the digit ({} s,", CREEP_OLD,
+     lambda d: d[RUN_3D]["stop_time_s"], ".3f", 1),
+    ("docs/three_d.md", "to the digit (0.883 s, {} steps)", CREEP_OLD, lambda d: d[RUN_3D]["steps"],
+     ",d", 1),
+    ("docs/three_d.md", "This one\nstops at {} s, the two runs", CHANNEL, "runs.3d.stop_time_s",
+     ".3f", 1),
+    ("docs/three_d.md", "earlier run, {} and 36 small cells", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "flowing_cells"), ".0f", 1),
+    ("docs/three_d.md", "62 and {} small cells", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "flowing_cells"), ".0f", 1),
+    ("docs/three_d.md", "small cells, {} % and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "0.29 % and\n  {} % of the volume", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "flowing_share"), ".2f", 100),
+    ("docs/three_d.md", "flowing at {} and 5.6 mm/s", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "max_speed_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "flowing at 8.4 and {} mm/s", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "max_speed_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "the fastest at x = {} and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: r["fastest_at_m"][0]), ".3f", 1),
+    ("docs/three_d.md", "0.325 and\n  {} m (the wall's", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, lambda r: r["fastest_at_m"][0]), ".3f", 1),
+    ("docs/three_d.md", "(the wall's front at {} m)", CREEP_OLD,
+     lambda d: d[RUN_3D]["runout_wall_m"], ".3f", 1),
+    ("docs/three_d.md", "{} mm from the side wall and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: 0.05 - r["fastest_at_m"][1]), ".1f", 1e3),
+    ("docs/three_d.md", "side wall and {} and 2.9 mm", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, lambda r: r["fastest_at_m"][2]), ".1f", 1e3),
+    ("docs/three_d.md", "12.6 and {} mm\n  above the bed", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, lambda r: r["fastest_at_m"][2]), ".1f", 1e3),
+    ("docs/three_d.md", "free surface ({} and 76 %", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "on_free_surface"), ".0f", 100),
+    ("docs/three_d.md", "(67 and {} % of their volume)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "on_free_surface"), ".0f", 100),
+    ("docs/three_d.md", "mean pressure of {} and 29 Pa", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "pressure_mean_pa"), ".0f", 1),
+    ("docs/three_d.md", "of 32 and {} Pa", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "pressure_mean_pa"), ".0f", 1),
+    ("docs/three_d.md", "(mean yield ratio {} and", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "yield_ratio_mean"), ".2f", 1),
+    ("docs/three_d.md", "ratio 1.17 and {})", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "yield_ratio_mean"), ".2f", 1),
+    ("docs/three_d.md", "half of their speed ({} and 57 %)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "across_share"), ".0f", 100),
+    ("docs/three_d.md", "speed (56 and {} %)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "across_share"), ".0f", 100),
+    ("docs/three_d.md", "(a mean {} and 1.7 mm/s)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.60, "across_mean_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "mean 2.4 and {} mm/s)", CREEP_OLD,
+     _snapshot(RUN_3D, 0.84, "across_mean_m_s"), ".1f", 1e3),
+    ("docs/three_d.md", "edge keeps {} cells at", CREEP, _last(RUN_3D, "flowing_cells"), "d",
+     1),
+    ("docs/three_d.md", "cells at {} mm/s, 0.055 %", CREEP, _last(RUN_3D, "max_speed_m_s"),
+     ".1f", 1e3),
+    ("docs/three_d.md", "2.3 mm/s, {} % of the", CREEP, _last(RUN_3D, "flowing_share"), ".3f",
+     100),
+    ("docs/three_d.md", "(its fastest cell at\n  {} m/s)", CREEP, _last(RUN_2D, "max_speed_m_s"),
+     ".0e", 1),
+    ("docs/three_d.md", "with `numerics.tol = 1e-8` ({} iterations a step", PROBE,
+     "resumed_tol1e-8.window.iterations_per_step", ".0f", 1),
+    ("docs/three_d.md", "iterations a step instead of {})", PROBE,
+     "resumed_tol3e-4.window.iterations_per_step", ".0f", 1),
+    ("docs/three_d.md", "keeps the edge at\n  {} mm/s", PROBE,
+     _last("resumed_tol1e-8", "max_speed_m_s"), ".2f", 1e3),
+    ("docs/three_d.md", "3e-4 does ({} mm/s)", PROBE, _last("resumed_tol3e-4", "max_speed_m_s"),
+     ".2f", 1e3),
+    ("docs/three_d.md", "by the equivalent of {} mm/s", CREEP_OLD,
+     lambda d: d[RUN_3D]["window"]["volume_correction_surface_speed_m_s"], ".4f", 1e3),
+    ("docs/three_d.md", "holds up to {} % of the half", CREEP, _last(RUN_3D, "largest_cell_share"),
+     ".1f", 100),
+    ("docs/three_d.md", "volume ({} % in the\n  earlier run)", CREEP_OLD,
+     _last(RUN_3D, "largest_cell_share"), ".1f", 100),
+    ("docs/three_d.md", "earlier run), {} to 20 times", CREEP, _last(RUN_3D, "largest_cell_share"),
+     ".0f", 1e3),
+    ("docs/three_d.md", "13 to {} times the fraction", CREEP_OLD,
+     _last(RUN_3D, "largest_cell_share"), ".0f", 1e3),
+    ("docs/three_d.md", "one of the 2D run's {} triangles", CREEP, _last(RUN_2D, "cells"), "d", 1),
+    ("docs/three_d.md", "triangles up to\n  {} % of the section", CREEP,
+     _last(RUN_2D, "largest_cell_share"), ".1f", 100),
+    ("docs/three_d.md", "2D\nrun comes to rest at {} s", SLOPE19, "runs.2d.stop_time_s", ".3f",
+     1),
+    ("docs/three_d.md", "with a runout of {} m (against the", SLOPE19, "runs.2d.runout_m", ".3f",
+     1),
+    ("docs/three_d.md", "the runout is {} % short", SLOPE19,
+     lambda d: 1 - d["runs"]["2d"]["runout_m"] / ERODIBLE_19_RUNOUT, ".0f", 100),
+    ("docs/three_d.md", "it was interrupted at {} s after", SLOPE19, "runs.3d.t_final", ".3f", 1),
+    ("docs/three_d.md", "after {} steps, still flowing", SLOPE19, "runs.3d.steps", ",d", 1),
+    ("docs/three_d.md", "centre-line front is at {} m against", SLOPE19, "runs.3d.runout_centre_m",
+     ".4f", 1),
+    ("docs/three_d.md", "the 2D front's\n{} m (", SLOPE19, "front_2d_at_3d_end_m", ".4f", 1),
+    ("docs/three_d.md", "0.8358 m ({} %)", SLOPE19, "front_centre_relative_at_3d_end", "+.1f",
+     100),
+    ("docs/three_d.md", "side wall {} % behind", SLOPE19,
+     lambda d: -d["front_wall_relative_at_3d_end"], ".1f", 100),
+    ("docs/three_d.md", "% behind ({} m)", SLOPE19, "runs.3d.runout_wall_m", ".4f", 1),
+    ("docs/three_d.md", "lies within {} mm of the centre-line surface and", SLOPE19,
+     lambda d: max(g["centre"]["distance_behind_front_max_m"] for t, g in d["surfaces"].items()
+                   if t != "final"), ".1f", 1e3),
+    ("docs/three_d.md", "surface and\n{} mm of the wall's", SLOPE19,
+     lambda d: max(g["wall"]["distance_behind_front_max_m"] for t, g in d["surfaces"].items()
+                   if t != "final"), ".1f", 1e3),
     ("docs/three_d.md", "free surfaces {} m apart", MAIN_VS_3D, _largest_surface_gap,
      ".1f", 1),
     # --- the packing fraction (benchmarks/packing.py)
@@ -553,6 +758,49 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/erosion.md",
      r"| drucker-prager (Coulomb bed, \(\eta\) = 1 Pa s, 2.5 mm cells) | {} |", SLAB,
      _slab_ratio("drucker-prager", 0), ".2f", 1),
+    # the layer's packing (d)
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"drucker-prager | {} /", SLAB,
+     _slab_ratio("drucker-prager/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"glass-beads | {} /", SLAB,
+     _slab_ratio("glass-beads/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"hysteretic | {} /", SLAB,
+     _slab_ratio("hysteretic/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) no-slip and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"nonlocal | {} /", SLAB,
+     _slab_ratio("nonlocal/no-slip+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"drucker-prager | {} /", SLAB,
+     _slab_ratio("drucker-prager/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"glass-beads | {} /", SLAB,
+     _slab_ratio("glass-beads/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"hysteretic | {} /", SLAB,
+     _slab_ratio("hysteretic/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md",
+     r"| (d) material bed and \(\eta\) = 0.01, layer at \(\phi_c\) / loose / dense: "
+     r"nonlocal | {} /", SLAB,
+     _slab_ratio("nonlocal/material-bed+small-eta+critical-layer", 0), ".2f", 1),
+    ("docs/erosion.md", "1.33 and ≈ 1.72 to 1.12, {} and", SLAB,
+     _slab_ratio("hysteretic/no-slip+small-eta+dense-layer", 19), ".2f", 1),
+    ("docs/erosion.md", "dense ratio of the distances is {} to", SLAB, _loose_over_dense(min),
+     ".3f", 1),
+    ("docs/erosion.md", "distances is 0.996 to {} for the other", SLAB, _loose_over_dense(max),
+     ".3f", 1),
+    ("docs/erosion.md", "`mass_relative_error_max` {} to", SLAB,
+     _packed_extreme("mass_relative_error_max", min), ".1e", 1),
+    ("docs/erosion.md", "`mass_relative_error_max` 5.5e-3 to {} (predicted", SLAB,
+     _packed_extreme("mass_relative_error_max", max), ".1e", 1),
     ("docs/model.md", "runs took {} nonlinear iterations against 3,309", SLAB_FLUIDITY,
      "5mm-zero.nonlinear_iterations", ",d", 1),
     ("docs/verification.md", "| rectangle | glass-beads | material | 0.687 | {} |", BED_MODELS,

@@ -1,7 +1,8 @@
 """The slab kind and the rigid bed's laws against independent solutions.
 
 - A block (a slab stronger than its bed) launched along a Coulomb bed decelerates at
-  g (mu cos(theta) - sin(theta)) and stops after U0^2 / (2 a): the rigid block's mechanics.
+  g (mu cos(theta) - sin(theta)) and stops after U0^2 / (2 a): the rigid block's mechanics;
+  a dense block on the material bed at the friction of its packing, mu + K (phi - phi_c).
 - A mu(I) layer over the material bed flows steadily as Bagnold's profile shifted by the
   bed's slip d gamma_dot(0) = I_theta sqrt(P_b / rho_s) (``physics/bed.py``).
 - The no-slip bed's penalty gives the periodic layer's strong no-slip flow.
@@ -55,6 +56,23 @@ def test_a_block_on_a_coulomb_bed_stops_where_the_rigid_block_does(slope: float)
     assert got["distance"] == pytest.approx(0.8**2 / (2 * a), rel=1e-4)
     assert got["stop"] == pytest.approx(0.8 / a, abs=2 * problem.config.time.dt_max)
     assert problem.simulation.t < problem.config.time.t_end       # stopped at rest
+
+
+def test_a_dense_block_on_the_material_bed_stops_where_its_dilatancy_puts_it() -> None:
+    """The paper's material at phi_0 = 0.62 (1550 over grains of 2500) with a packing
+    (phi_c = 0.60, K = 4, a = 0) and eta = 0.01 Pa s on the material bed at 10 deg: it
+    slides as a block (it barely shears: phi stays within 1e-5 of phi_0) on a bed of
+    friction tan 25.5 deg + K (phi_0 - phi_c), the material's; its distance within 5e-3 of
+    that rigid block's U0^2 / (2 a) (measured 1.2e-3: the block is at its own friction
+    inside), and not the 25.5-degree block's, 27 % further."""
+    problem = run_slab(["material.packing=critical-state", "material.viscosity=0.01",
+                        "boundary.bed=material"])
+    theta, mu = math.radians(10.0), math.tan(math.radians(25.5)) + 4.0 * (0.62 - 0.60)
+    a = 9.81 * (mu * math.cos(theta) - math.sin(theta))
+    got = summary(problem)
+    assert got["distance"] == pytest.approx(1.0 / (2 * a), rel=5e-3)
+    packing = problem.simulation.callbacks["packing"].func.coupling.packing()
+    assert np.max(np.abs(packing - 0.62)) < 1e-5
 
 
 def test_a_mu_i_layer_over_the_material_bed_slips_by_its_basal_shear_over_a_grain() -> None:

@@ -179,12 +179,15 @@ class PackingCoupling(Coupling):
     name = "packing"
     share_of_checkpoint: Share = {"packing": may_lack(array("cells")),
                                   "packing_equilibrium": may_lack(array("cells")),
-                                  "packing_initial_mass": may_lack(REAL)}
+                                  "packing_initial_mass": may_lack(REAL),
+                                  "packing_vertices": may_lack(array("vertices", None))}
 
     def __init__(self, field: PackingField, laws: tuple[CriticalState, ...],
                  share: ngs.GridFunction | None) -> None:
         self.field, self.laws, self.fraction = field, laws, share
-        self._xy = field.mesh.ngmesh.Coordinates().copy()   # the accepted state's vertices
+        # the vertices phi was last carried to: the accepted state's, before the free-surface
+        # fix that may follow the acceptance (the next step's transport carries it)
+        self._xy = field.mesh.ngmesh.Coordinates().copy()
         self._flow: Flow | None = None
         self._initial_mass: float | None = None
         self._at_rest = True       # phi_eq not yet set from a flow (``start_step``)
@@ -266,7 +269,8 @@ class PackingCoupling(Coupling):
     def save(self) -> dict[str, object]:
         return {"packing": self.field.values.copy(),
                 "packing_equilibrium": self.field.equilibrium.vec.FV().NumPy().copy(),
-                "packing_initial_mass": self.initial_mass()}
+                "packing_initial_mass": self.initial_mass(),
+                "packing_vertices": self._xy.copy()}
 
     def restore(self, state: Mapping[str, object]) -> None:
         if "packing" not in state:
@@ -278,6 +282,8 @@ class PackingCoupling(Coupling):
         self._at_rest = False
         self._initial_mass = float(state["packing_initial_mass"])   # type: ignore[arg-type]
         self._xy = self.field.mesh.ngmesh.Coordinates().copy()
+        if "packing_vertices" in state:       # (a checkpoint written before it was kept)
+            assign(self._xy, state["packing_vertices"], "the checkpoint's packing vertices")
 
     def inherit(self, old: Coupling, carry: Carriers) -> None:
         assert isinstance(old, PackingCoupling)

@@ -21,7 +21,10 @@ the slip speed squared and the normal load [p - sigma'_N]_+ (``drag_coefficient_
   (capped at mu_2 as the law is, ``nonlocal_fluidity.py``); a hysteretic friction blends
   mu_start and the flowing law with the state of the material at the bed. A steady
   layer over it is the same layer over a no-slip bed with the velocity shifted by the
-  slip d gamma_dot(0): its basal shear rate continued one grain into the bed.
+  slip d gamma_dot(0): its basal shear rate continued one grain into the bed. With a
+  packing fraction the material's friction is mu(I) + tan(psi) (``packing.py``), and so is
+  the bed's: tau_b = (mu(I_b) + K (phi - phi_eq(I_b))) P, phi the packing of the material
+  at the bed (the triangle on it), at least 0.
 
 Each simple law gives the stress it exerts sliding (``sliding_stress(slip, load, ops)``,
 finite at zero load); ``physics/composite.py`` blends those of a composite law.
@@ -67,8 +70,13 @@ class MaterialBed:
             raise ValueError(f"eps_friction = {self.eps_friction}: must be > 0")
 
     def traction(self, slip_speed: Any, normal_stress: Any, ops: Ops = NUMPY_OPS) -> Any:
-        """tau_b at the slip speed ``slip_speed`` (m/s) and the normal load."""
-        return blended(self.law, lambda law: law.sliding_stress(slip_speed, normal_stress, ops))
+        """tau_b at the slip speed ``slip_speed`` (m/s) and the normal load; a law wrapping
+        another adds its own friction sliding (a packing's tan(psi) at the bed), the total
+        kept at least 0 (as in the material: the bed holds back, it never pushes)."""
+        return ops.positive_part(blended(
+            self.law, lambda law: law.sliding_stress(slip_speed, normal_stress, ops),
+            added=lambda wrapper: wrapper.sliding_stress_added(slip_speed, normal_stress,
+                                                               ops)))
 
     def drag_coefficient_sq(self, slip_sq: Any, normal_stress: Any,
                             ops: Ops = NUMPY_OPS) -> Any:

@@ -30,7 +30,9 @@ In the stress the law's (2.13) factor m of sigma' = m Du gains sqrt(2) tan(psi) 
 sqrt(|Du|^2 + eps^2), the yield stress of the friction tan(psi); the total friction is
 kept at least 0 (m >= 2 eta: a packing so loose that tan(psi) < -mu_law carries no shear
 by friction, it does not push). The stress keeps the paper's form m Du, whose trace is then
-m div u: an isotropic part of order mu p tan(psi) beside the pressure.
+m div u: an isotropic part of order mu p tan(psi) beside the pressure. A bed whose friction
+is the material's own law (``boundary.bed = "material"``, ``physics/bed.py``) has it too:
+mu_law(I_b) + K (phi - phi_eq(I_b)) at the bed's inertial number I_b, phi at the bed.
 """
 
 from __future__ import annotations
@@ -150,6 +152,16 @@ class Dilatant:
     def effective_viscosity(self, strain_rate_norm: Any, pressure: Any,
                             ops: Ops = NUMPY_OPS) -> Any:
         return self.effective_viscosity_sq(strain_rate_norm**2, pressure, ops)
+
+    def sliding_stress_added(self, slip_speed: Any, load: Any, ops: Ops = NUMPY_OPS) -> Any:
+        """tan(psi) [load]_+ sliding at ``slip_speed`` over a bed of its own grains
+        (``physics/bed.py``): K (phi - phi_eq(I_b)) at I_b = slip / sqrt(P / rho_s), the
+        inertial number of the bed's shear |u_T| / d over a grain, regularised as mu(I)'s;
+        phi the packing where the law is read (on the bed: the triangle on it)."""
+        state, load = self.state, ops.positive_part(load)
+        root = ops.sqrt(load / state.grain_density + (state.eps * state.grain_diameter) ** 2)
+        equilibrium = state.equilibrium(slip_speed / root, ops)
+        return state.dilatancy * (self.packing - equilibrium) * load
 
     def yield_slope_extra(self, strain_rate_sq: np.ndarray,
                           pressure: np.ndarray) -> np.ndarray:

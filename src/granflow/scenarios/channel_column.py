@@ -10,7 +10,6 @@ join the loop, which stops at rest as the section's."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -23,6 +22,7 @@ from granflow.scenarios.channel_discretisation import ChannelDiscretisation, dis
 from granflow.scenarios.channel_measures import ChannelMeasures
 from granflow.scenarios.channel_remesher import ChannelRemesher
 from granflow.scenarios.channel_setup import ChannelSetup
+from granflow.scenarios.collapse_state import CheckpointedCollapse
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
@@ -35,7 +35,7 @@ MESH: Share = {"points": array(None, 3), "tetrahedra": array(None, 4, kind="i"),
 
 
 @dataclass
-class ChannelCollapse:
+class ChannelCollapse(CheckpointedCollapse):
     """The assembled 3D collapse, as the runner sees it (``registry.Problem``)."""
 
     setup: ChannelSetup
@@ -60,28 +60,16 @@ class ChannelCollapse:
     def mover(self) -> ChannelMover:
         return self.current.mover
 
-    # --- checkpoint (io/run_state.py) ---------------------------------------------
-    def save_state(self) -> dict[str, Any]:
-        """The mesh (its arrays, with the labels deposition changes), the flow history,
-        the mover and the remeshes' record, then the loop's callbacks' shares."""
-        return {"mesh": mesh_arrays(self.mesh), "fields": self.solver.save_history(),
-                "mover": self.mover.save_state(), **self.remesher.save_state(),
-                **self.simulation.callbacks.save_state()}
+    # --- checkpoint (io/run_state.py; the sequence is collapse_state.py's) ----------
+    def saved_mesh(self) -> dict[str, np.ndarray]:
+        """The mesh as arrays, with the labels deposition changes."""
+        return mesh_arrays(self.mesh)
 
-    def share(self) -> Share:
-        return {"mesh": record(MESH), "fields": record(self.solver.history_share()),
-                "mover": record(ChannelMover.share), **ChannelRemesher.share,
-                **self.simulation.callbacks.shares()}
+    def mesh_share(self) -> Share:
+        return record(MESH)
 
-    def restore_state(self, state: dict[str, Any]) -> None:
-        """Continue from ``save_state``: solver and mover rebuilt on the saved mesh."""
-        restored = discretise(self.setup, mesh_from_arrays(**state["mesh"]))
-        restored.solver.restore_history(state["fields"])
-        restored.mover.restore_state(state["mover"])
-        self.current.replace(restored)
-        self.simulation.replace(restored.solver, restored.mover)
-        self.remesher.restore_state(state)
-        self.simulation.callbacks.restore_state(state)
+    def rebuilt(self, mesh: dict[str, np.ndarray]) -> ChannelDiscretisation:
+        return discretise(self.setup, mesh_from_arrays(**mesh))
 
 
 def build_channel_column(config: Config) -> ChannelCollapse:

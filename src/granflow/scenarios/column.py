@@ -24,6 +24,7 @@ from granflow.fem.flow import FlowSolver
 from granflow.geometry.domains import Polygon
 from granflow.geometry.mesh import polygon_mesh
 from granflow.physics import gravity_vector
+from granflow.scenarios.collapse_state import CheckpointedCollapse
 from granflow.scenarios.column_discretisation import ColumnDiscretisation, discretise
 from granflow.scenarios.column_layer import LayerTracking
 from granflow.scenarios.column_measures import ColumnMeasures
@@ -38,13 +39,13 @@ from granflow.simulation.callbacks import add_callback
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.simulation import Simulation
 from granflow.simulation.timestep import step_policy
-from granflow.state.spec import Share, instance, record
+from granflow.state.spec import instance
 
 MESH = instance(ngs.Mesh, "a mesh", lambda mesh: {"cells": mesh.ne, "vertices": mesh.nv})
 
 
 @dataclass
-class ColumnCollapse:
+class ColumnCollapse(CheckpointedCollapse):
     """The assembled collapse, as the runner sees it (``runner.Problem``)."""
 
     setup: ColumnSetup
@@ -80,32 +81,15 @@ class ColumnCollapse:
     def inertial(self) -> InertialNumbers | None:
         return self.measures.inertial
 
-    # --- checkpoint (io/run_state.py) ---------------------------------------------
-    def save_state(self) -> dict[str, Any]:
-        """The scenario's share of the run state: the mesh (with its boundary labels, which
-        deposition changes), the flow history, the mover and the remeshes' record, then the
-        shares of the loop's callbacks (the diagnostics history, a layer, a mobilisation
-        state; animation frames are files, ``frames/``)."""
-        return {"mesh": self.mesh, "fields": self.solver.save_history(),
-                "mover": self.mover.save_state(), **self.remesher.save_state(),
-                **self.simulation.callbacks.save_state()}
+    # --- checkpoint (io/run_state.py; the sequence is collapse_state.py's) ----------
+    def saved_mesh(self) -> ngs.Mesh:
+        return self.mesh
 
-    def share(self) -> Share:
-        """What the members of ``save_state`` may be (in a checkpoint): its parts' shares."""
-        return {"mesh": MESH, "fields": record(self.solver.history_share()),
-                "mover": record(ColumnMover.share), **ColumnRemesher.share,
-                **self.simulation.callbacks.shares()}
+    def mesh_share(self) -> Any:
+        return MESH
 
-    def restore_state(self, state: dict[str, Any]) -> None:
-        """Continue from ``save_state``: solver and mover rebuilt on the saved mesh, then
-        the callbacks' shares on them."""
-        restored = discretise(self.setup, state["mesh"])
-        restored.solver.restore_history(state["fields"])
-        restored.mover.restore_state(state["mover"])
-        self.current.replace(restored)
-        self.simulation.replace(restored.solver, restored.mover)
-        self.remesher.restore_state(state)
-        self.simulation.callbacks.restore_state(state)
+    def rebuilt(self, mesh: ngs.Mesh) -> ColumnDiscretisation:
+        return discretise(self.setup, mesh)
 
 
 def build_column(config: Config) -> ColumnCollapse:

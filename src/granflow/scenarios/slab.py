@@ -30,6 +30,7 @@ from granflow.scenarios.flow_config import Layout, flow_spec
 from granflow.scenarios.fluidity import FluidityOutputs
 from granflow.scenarios.materials import run_materials, share_of
 from granflow.scenarios.mobilisation_tracking import MobilisationTracking, mobilisation_of
+from granflow.scenarios.packing import PackingOutputs
 from granflow.scenarios.registry import register
 from granflow.simulation.callbacks import add_callback
 from granflow.simulation.outputs import Outputs, Table
@@ -273,9 +274,10 @@ def build_slab(config: Config) -> Slab:
         simulation.stop_criteria = [RestCriterion(measures.flowing_fraction,
                                                   config.time.rest_fraction,
                                                   config.time.rest_duration)]
-    fluidity = FluidityOutputs.of(problem)
-    if fluidity is not None:
-        add_callback(simulation, fluidity, "fluidity")
+    fluidity, packing = FluidityOutputs.of(problem), PackingOutputs.of(problem)
+    for name, part in (("fluidity", fluidity), ("packing", packing)):
+        if part is not None:
+            add_callback(simulation, part, name)
     if problem.mobilisation is not None:
         tracking = MobilisationTracking(materials, problem, simulation)
         tracking.start()

@@ -23,9 +23,10 @@ def three_d(c: Config) -> bool:
 
 
 def three_d_problems(c: Config) -> Iterator[str]:
-    """What neither kind can have in 3D: a law not verified there, a hysteretic friction,
-    the augmented Lagrangian (its multipliers are 2 x 2 tensors), surface tension (built
-    on a section's boundary curve); and what only 3D has, asked for in 2D."""
+    """What neither kind can have in 3D: a law not verified there, a packing fraction, a
+    hysteretic friction, the augmented Lagrangian (its multipliers are 2 x 2 tensors),
+    surface tension (built on a section's boundary curve); and what only 3D has, asked
+    for in 2D."""
     if not three_d(c):
         yield from _three_d_only(c)
         return
@@ -33,6 +34,9 @@ def three_d_problems(c: Config) -> Iterator[str]:
     if m.rheology not in LAWS_3D:
         yield (f"material.rheology = {m.rheology!r} is not verified in 3D ({THREE_D}); "
                f"use one of {', '.join(map(repr, LAWS_3D))}")
+    if m.packing != "none":
+        yield (f"material.packing = {m.packing!r} is not verified in 3D ({THREE_D}); "
+               "use 'none'")
     if m.friction != "constant":
         yield (f"material.friction = {m.friction!r} is not verified in 3D ({THREE_D}); "
                "use 'constant'")
