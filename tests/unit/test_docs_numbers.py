@@ -87,6 +87,16 @@ def _step_cost(case: str) -> Callable[[Any], float]:
         return costs[middle] if len(costs) % 2 else (costs[middle - 1] + costs[middle]) / 2
     return value
 PLANE_14 = "three_d_collapse/plane_strain_h0.014.json"
+WALLS = "three_d_krylov/walls/strong_walls.json"
+WALLS_PAIR = "three_d_krylov/walls/3d-penalty-vs-3d-strong.json"
+WALLS_REST = "three_d_krylov/walls/strong_walls_rest.json"
+WALLS_REST_PAIR = "three_d_krylov/walls/3d-rest-penalty-vs-3d-rest-strong.json"
+WALLS_2D = "three_d_krylov/walls/2d-main-13e348f-vs-2d-strong-walls.json"
+KRYLOV_FRONT_20 = "three_d_krylov/column_front_h0.02_dt0.0001_n1.json"
+KRYLOV_EXACT_20 = "three_d_krylov/column_flowing_h0.02_dt0.0001_exactu_n1.json"
+KRYLOV_FLOWING_14 = "three_d_krylov/column_flowing_h0.014_dt0.0001_n1.json"
+KRYLOV_REST_04 = "three_d_krylov/column_rest_h0.04_dt0.0001_n1.json"
+KRYLOV_PLUG = "three_d_krylov/plug_flowing_dt0.025_n1.json"
 PLANE_20 = "three_d_collapse/plane_strain_h0.02.json"
 REST_1, REST_2 = "three_d_collapse/rest_h0.04_n1.json", "three_d_collapse/rest_h0.04_n2.json"
 REST_2D = "three_d_collapse/rest2d_h0.04.json"
@@ -425,6 +435,54 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("CHANGELOG.md", "whose SSE2 kernels cost {} % more processor time", MKL_MODES,
      _compatible_extra("mesh-20k"), ".0f", 100),
     # --- three dimensions (benchmarks/three_d_collapse.py, collapse_runs.py --compare)
+    # --- the 3D walls held strongly (collapse_runs.py --compare, strong_walls.py)
+    ("docs/three_d.md", "the two runs take the same {} steps", WALLS_PAIR,
+     "rectangle-rigid.3d-strong.steps", "d", 1),
+    ("docs/three_d.md", "side wall stay within {} m of each other", WALLS,
+     lambda d: max(d[f"front_x_{w}_max_difference_by_time"]["0.100"]
+                   for w in ("centre", "side")), ".1e", 1),
+    ("docs/three_d.md", "free surfaces within {} m on average", WALLS,
+     lambda d: d["free_surface"]["0.100"]["mean_m"], ".1e", 1),
+    ("docs/three_d.md", "differs by up to {} mm for that step", WALLS,
+     lambda d: d["front_x_side_max_difference_by_time"]["0.200"], ".1f", 1e3),
+    ("docs/three_d.md", "the runout differs by {} %", WALLS_PAIR,
+     "rectangle-rigid.relative_changes.runout_m", ".2f", 100),
+    ("docs/three_d.md", "by at most {} mm along the centre line", WALLS,
+     lambda d: d["free_surface"]["0.200"]["max_m"], ".2f", 1e3),
+    ("docs/three_d.md", "along the centre line and {} mm at the wall", WALLS,
+     lambda d: d["free_surface_wall"]["0.200"]["max_m"], ".2f", 1e3),
+    ("docs/three_d.md", "and the free surfaces {} m apart", WALLS_2D,
+     lambda d: max(g["max_m"] for r in d.values() for g in r["free_surfaces"].values()),
+     ".1f", 1),
+    ("docs/three_d.md", "the deposits' fronts differ by {} mm along the centre line",
+     WALLS_REST, lambda d: d["last_rows"]["strong"]["front_x_centre"]
+     - d["last_rows"]["penalty"]["front_x_centre"], "+.1f", 1e3),
+    ("docs/three_d.md", "centre line and {} mm at the side wall", WALLS_REST,
+     lambda d: d["last_rows"]["strong"]["front_x_side"]
+     - d["last_rows"]["penalty"]["front_x_side"], "+.1f", 1e3),
+    ("docs/three_d.md", "surfaces are within {} mm, the wall ones", WALLS_REST,
+     lambda d: d["free_surface"]["0.400"]["max_m"], ".2f", 1e3),
+    ("docs/three_d.md", "the wall ones within {} mm (where", WALLS_REST,
+     lambda d: d["free_surface_wall"]["0.400"]["max_m"], ".0f", 1e3),
+    ("docs/three_d.md", "(up to {} mm/s in a small share", WALLS_REST,
+     lambda d: d["last_rows"]["strong"]["max_speed"], ".1f", 1e3),
+    ("docs/three_d.md", "the run stops at {} s against", WALLS_REST_PAIR,
+     "rectangle-rigid.3d-rest-strong.stop_time_s", ".3f", 1),
+    ("docs/three_d.md", "s against {} s with the penalty", WALLS_REST_PAIR,
+     "rectangle-rigid.3d-rest-penalty.stop_time_s", ".3f", 1),
+    # --- the 3D iterative solve (benchmarks/three_d_krylov.py)
+    ("docs/three_d.md", "(strong walls, dt = {} s)", KRYLOV_FRONT_20,
+     "[eps=1e-06&schur=cahouet-chabard].dt", ".0e", 1),
+    ("docs/three_d.md", "needs {} steps (123 with BDDC)", KRYLOV_EXACT_20,
+     "[eps=1e-06].gmres_steps", "d", 1),
+    ("docs/three_d.md", "79, 101, 123, {} steps for 973", KRYLOV_FLOWING_14,
+     "[eps=1e-06].gmres_steps", "d", 1),
+    ("docs/three_d.md", "at 5,414 unknowns: 258-{} steps", KRYLOV_FRONT_20,
+     "max:[schur=cahouet-chabard].gmres_steps", "d", 1),
+    ("docs/three_d.md", "does not reach 1e-8 within {} steps", KRYLOV_REST_04,
+     "max:[schur=cahouet-chabard].gmres_steps", "d", 1),
+    ("docs/three_d.md", "in residual ({} steps) leaves the velocity", KRYLOV_PLUG,
+     "[eps=1e-06&schur=cahouet-chabard].gmres_steps", "d", 1),
     ("docs/three_d.md", "The runouts differ by {} %", PLANE_14, "runout_relative", "+.2f",
      100),
     ("docs/three_d.md", "and {} mm apart behind the front's last mesh.size", PLANE_14,

@@ -261,6 +261,7 @@ class Boundary(_Section):
     wall_friction_deg: Angle  # Coulomb mu_l = tan(angle)
     penalty: Penalty  # enforces u.n = 0 on the bed and the wall
     normal_load: Literal["pressure", "reaction"]  # friction load: [p - sigma'_N]_+ or [xi u.N]_+
+    non_penetration: Literal["penalty", "strong"]  # u.N = 0: the penalty (2.7), or held (3D)
     channel_width: Annotated[float, Field(ge=floor("boundary.channel_width"),
                                           le=1e4)] | None  # side walls W; None = none
     side_wall_friction_deg: Angle  # Coulomb mu_w = tan(angle) of the side walls

@@ -63,7 +63,8 @@ def build_flow(mesh: ngs.Mesh, spec: FlowSpec) -> FlowSolver:
     couplings, fields = build_couplings(
         Site(mesh, coords, disc.periodic, choice.linear_solver), spec.couplings)
     rheology, density = spec.law(fields)
-    space = taylor_hood(mesh, periodic=disc.periodic, dirichlet=disc.dirichlet, axis=disc.axis)
+    space = taylor_hood(mesh, periodic=disc.periodic, dirichlet=disc.dirichlet, axis=disc.axis,
+                        held=disc.held)
     solution = ngs.GridFunction(space)    # (u^{n+1,k}, p^{n+1,k})
     scheme = time_scheme(disc.scheme, space, density)
     mesh_velocity = ngs.GridFunction(vector_p2(mesh))

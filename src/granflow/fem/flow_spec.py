@@ -38,13 +38,16 @@ class Terms:
 @dataclass(frozen=True)
 class Discretisation:
     """The spaces and the time scheme: a periodic layer, the boundaries with u = 0 and the
-    symmetry axis (u_r = 0), the coordinates and the scheme of (3.2a)."""
+    symmetry axis (u_r = 0), the coordinates and the scheme of (3.2a), and the regions
+    where each component of u (x, y, z) is held at 0 (``held``: u.N = 0 imposed strongly
+    on walls normal to an axis, in place of the penalty)."""
 
     coordinates: Coordinates = PLANE
     periodic: bool = False
     dirichlet: str = ""
     axis: str = ""
     scheme: str = "implicit-euler"
+    held: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

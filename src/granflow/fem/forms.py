@@ -227,6 +227,7 @@ class FrictionWall:
     law: WallLaw
     normal_load: str = "pressure"
     velocity: ngs.CoefficientFunction | None = None   # a moving wall's (a gate), tangential
+    penalised: bool = True    # False: u.N = 0 is held by the space (``fem/spaces.py``)
 
     def on_law(self, rheology: Rheology) -> FrictionWall:
         """This wall for a flow of ``rheology``: a law that is the material's own (it has
@@ -352,7 +353,9 @@ def momentum_terms(*, density: float | ngs.CoefficientFunction, inertia: Term,
     terms: list[Term] = [inertia, Convection(density, mesh_velocity),
                          stress, Incompressibility(), BodyForce(density, body_force)]
     for wall in (w.on_law(rheology) for w in walls):
-        terms += [CoulombWallFriction(wall, stress, penalty), NormalPenalty(wall.region, penalty)]
+        terms.append(CoulombWallFriction(wall, stress, penalty))
+        if wall.penalised:
+            terms.append(NormalPenalty(wall.region, penalty))
     if surface_traction is not None:
         terms.append(surface_traction)
     if side_walls is not None:

@@ -88,6 +88,11 @@ class ReusableLU:
     def reset(self) -> None:
         self._inverse = None
 
+    def set_free_dofs(self, freedofs: ngs.BitArray) -> None:
+        """Factorise for these degrees of freedom from the next update on."""
+        self._freedofs = freedofs
+        self.reset()
+
     def update(self) -> None:
         """Refactorise after the form was reassembled."""
         if self._inverse is None or self._solver == MASTER_INVERSE:

@@ -168,6 +168,12 @@ class NonlinearSolver:
         self.picard_system.reset()
         self.newton_system.reset()
 
+    def set_free_dofs(self, freedofs: ngs.BitArray) -> None:
+        """Solve for these degrees of freedom from now on (the walls' held components
+        changed: ``fem/held_walls.py``)."""
+        for system in (self.picard_system, self.newton_system):
+            system.lu.set_free_dofs(freedofs)
+
     def velocity_l2(self, vec: ngs.BaseVector) -> float:
         """L2 norm of the velocity part of ``vec`` on the mesh of the last solve."""
         return self._l2(vec)

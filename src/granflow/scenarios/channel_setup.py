@@ -4,7 +4,10 @@ rectangle or trapezoid, X along the bed, Z normal to it), where it lies across t
 walls, its half beside the centre plane, or without side walls a slab one mesh.size thick
 between two frictionless planes), the run's materials, and the flow solver's frozen parts
 (``scenarios/flow_config.py``): Coulomb friction with the penalty (2.7)-(2.8) on the bed,
-the back wall and the side walls, a frictionless symmetry plane."""
+the back wall and the side walls, a frictionless symmetry plane; or, with
+boundary.non_penetration = "strong", u.N = 0 held by the space on these planes (each is
+normal to an axis: the bed Z = 0, the back wall X = 0, the side and centre planes Y =
+const) and the friction alone as their term."""
 
 from __future__ import annotations
 
@@ -39,7 +42,9 @@ class ChannelSetup:
         span = (ChannelSpan.slab(config.mesh.size) if bnd.channel_width is None
                 else ChannelSpan.channel(bnd.channel_width, geo.half_channel))
         materials = run_materials(config)
-        layout = Layout(SPACE, channel_walls(config, span), surface="")
+        walls = channel_walls(config, span)
+        strong = config.boundary.non_penetration == "strong"
+        layout = Layout(SPACE, walls, surface="", held=held_planes(span) if strong else ())
         return cls(config, section, span, materials, flow_spec(config, materials, layout))
 
     @property
@@ -59,5 +64,17 @@ def channel_walls(config: Config, span: ChannelSpan) -> tuple[FrictionWall, ...]
     angles = {BED: bnd.bed_friction_deg, WALL: bnd.wall_friction_deg,
               SIDE: bnd.side_wall_friction_deg, SYMMETRY: 0.0}
     labels = [BED, WALL, *dict.fromkeys((span.low_label, span.high_label))]
-    return tuple(FrictionWall(label, CoulombFriction(angles[label], eps), bnd.normal_load)
-                 for label in labels)
+    penalised = bnd.non_penetration == "penalty"
+    return tuple(FrictionWall(label, CoulombFriction(angles[label], eps), bnd.normal_load,
+                              penalised=penalised) for label in labels)
+
+
+def held_planes(span: ChannelSpan) -> tuple[str, str, str]:
+    """The regions where u_x, u_y and u_z vanish: the back wall X = 0, the faces Y = low
+    and high, the bed Z = 0 (``ChannelSpan.planes``)."""
+    by_axis: dict[int, list[str]] = {0: [], 1: [], 2: []}
+    for axis, _, label in span.planes():
+        if label not in by_axis[axis]:
+            by_axis[axis].append(label)
+    x, y, z = ("|".join(by_axis[axis]) for axis in range(3))
+    return x, y, z

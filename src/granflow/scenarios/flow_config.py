@@ -21,6 +21,7 @@ from granflow.fem.augmented_lagrangian import AugmentedLagrangianSpec
 from granflow.fem.coupling import CouplingSpec
 from granflow.fem.flow_spec import Discretisation, FlowSpec, SolverChoice, Terms
 from granflow.fem.forms import FrictionWall
+from granflow.fem.held_walls import HeldWallsSpec
 from granflow.fem.linalg import direct_solver
 from granflow.fem.material_share import MaterialShareSpec
 from granflow.fem.measure import PLANE, Coordinates
@@ -37,8 +38,9 @@ class Layout:
     """What a kind's domain tells the flow: its Coulomb walls, whether it is a periodic
     layer, the boundaries with u = 0 (``dirichlet``) and the symmetry axis (``axis``),
     where a nonlocal law's fluidity is 0 (``rough``), the free surface that may carry the
-    numerical surface tension (``surface``), and how a nonlocal law's g at t = 0 is made
-    from its law (``initial_fluidity``; None: g = 0)."""
+    numerical surface tension (``surface``), how a nonlocal law's g at t = 0 is made
+    from its law (``initial_fluidity``; None: g = 0), and the regions where each velocity
+    component (x, y, z) is held at 0 (``held``: walls normal to an axis, u.N = 0 strongly)."""
 
     coordinates: Coordinates = PLANE
     walls: tuple[FrictionWall, ...] = ()
@@ -48,6 +50,7 @@ class Layout:
     rough: str = ""
     surface: str = ""
     initial_fluidity: Callable[[Any, Config], Any] | None = None
+    held: tuple[str, ...] = ()
 
 
 Resolver = Callable[[Config, RunMaterials, Layout], tuple[CouplingSpec, ...]]
@@ -74,6 +77,11 @@ def _packing(config: Config, materials: RunMaterials,
     return packing_specs(config, materials)
 
 
+def _held_walls(config: Config, materials: RunMaterials,
+                layout: Layout) -> tuple[CouplingSpec, ...]:
+    return (HeldWallsSpec(),) if any(layout.held) else ()
+
+
 def _augmented_lagrangian(config: Config, materials: RunMaterials,
                           layout: Layout) -> tuple[CouplingSpec, ...]:
     r = augmentation(config)
@@ -88,7 +96,7 @@ def _primal_dual(config: Config, materials: RunMaterials,
 
 
 COUPLED_FIELDS: tuple[Resolver, ...] = (_material_share, _mobilisation, _fluidity, _packing,
-                                        _augmented_lagrangian, _primal_dual)
+                                        _augmented_lagrangian, _primal_dual, _held_walls)
 
 
 def flow_spec(config: Config, materials: RunMaterials, layout: Layout) -> FlowSpec:
@@ -102,7 +110,7 @@ def flow_spec(config: Config, materials: RunMaterials, layout: Layout) -> FlowSp
                               else None),
                   surface_tension_on=layout.surface if st.enabled else "")
     discretisation = Discretisation(layout.coordinates, layout.periodic, layout.dirichlet,
-                                    layout.axis, config.time.scheme)
+                                    layout.axis, config.time.scheme, layout.held)
     choice = SolverChoice(num.linearization, direct_solver(num.linear_solver),
                           num.initial_guess, num.anderson_depth)
     couplings = tuple(spec for resolve in COUPLED_FIELDS

@@ -55,7 +55,8 @@ def inert_keys(c: Config) -> dict[str, str]:
         "surface_tension.enabled surface_tension.delta surface_tension.gamma0 "
         "surface_tension.trigger_angle_deg surface_tension.release_angle_deg "
         "surface_tension.length", column)
-    add("geometry.half_channel", "it halves a 3D channel, and the slab runs in two dimensions")
+    add("geometry.half_channel boundary.non_penetration", "it describes a 3D channel, "
+        "and the slab runs in two dimensions")
     add("initial.shear_rate initial.plug_base initial.fluidity", "it sets the periodic "
         "layer's initial state; a slab starts as a block (g = 0) over a layer at rest")
     if not layer(c):

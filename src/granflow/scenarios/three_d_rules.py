@@ -25,8 +25,10 @@ def three_d(c: Config) -> bool:
 def three_d_problems(c: Config) -> Iterator[str]:
     """What neither kind can have in 3D: a law not verified there, a packing fraction, a
     hysteretic friction, the augmented Lagrangian (its multipliers are 2 x 2 tensors),
-    surface tension (built on a section's boundary curve)."""
+    surface tension (built on a section's boundary curve); and what only 3D has, asked
+    for in 2D."""
     if not three_d(c):
+        yield from _three_d_only(c)
         return
     m = c.material
     if m.rheology not in LAWS_3D:
@@ -44,6 +46,14 @@ def three_d_problems(c: Config) -> Iterator[str]:
     if c.surface_tension.enabled:
         yield ("surface_tension.enabled = true: the numerical surface tension (3.8)-(3.11) "
                f"acts on a section's boundary curve, not in 3D ({THREE_D}); set it false")
+
+
+def _three_d_only(c: Config) -> Iterator[str]:
+    """What a run in two dimensions cannot ask for: the walls held strongly (its walls
+    keep the penalty (2.7), as verified)."""
+    if c.boundary.non_penetration == "strong":
+        yield (f"boundary.non_penetration = 'strong' holds u.N = 0 on the walls of a 3D "
+               f"column ({THREE_D}); use 'penalty' in 2D")
 
 
 def column_3d_problems(c: Config) -> Iterator[str]:
@@ -71,6 +81,10 @@ def column_3d_problems(c: Config) -> Iterator[str]:
     if c.boundary.bed != "coulomb":
         yield (f"boundary.bed = {c.boundary.bed!r} is not verified in 3D ({THREE_D}); "
                "use 'coulomb'")
+    b = c.boundary
+    if b.non_penetration == "strong" and b.normal_load == "reaction":
+        yield ("boundary.normal_load = 'reaction' is the penalty's normal traction, and "
+               "boundary.non_penetration = 'strong' has no penalty; use 'pressure'")
 
 
 def layer_3d_problems(c: Config) -> Iterator[str]:
@@ -94,6 +108,7 @@ def three_d_inert_keys(c: Config, column: bool) -> dict[str, str]:
     if not column:
         add("geometry.half_channel mesh.cells_x",
             f"the 3D periodic layer ({THREE_D}) is a box of cells of mesh.size")
+        add("boundary.non_penetration", f"the 3D periodic layer ({THREE_D}) has no walls")
         return out
     add("mesh.adaptive mesh.rest_coarsening mesh.flow_margin",
         f"a 3D column ({THREE_D}) is meshed with the uniform mesh.size")
