@@ -32,6 +32,7 @@ MPIEXEC = Path(sys.executable).parent / "mpiexec"
 HAVE_MPI = importlib.util.find_spec("mpi4py") is not None and MPIEXEC.exists()
 
 
+@pytest.mark.slow
 def test_walls_held_strongly_flow_as_the_penalty_lets_them(tmp_path: Path) -> None:
     penalty = run("rectangle-rigid", COLUMN, out=tmp_path / "penalty", progress=False).summary
     strong = run("rectangle-rigid", STRONG, out=tmp_path / "strong", progress=False).summary
@@ -44,6 +45,7 @@ def test_walls_held_strongly_flow_as_the_penalty_lets_them(tmp_path: Path) -> No
     assert strong.extra["n_dofs"] == penalty.extra["n_dofs"]   # the same space, fewer free
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
                     reason='needs the MPI extra: pip install -e ".[mpi]"')
 def test_walls_held_strongly_on_two_ranks_as_on_one(tmp_path: Path) -> None:
