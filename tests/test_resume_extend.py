@@ -44,16 +44,23 @@ def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]
     """The uninterrupted run, and a copy of its folder taken right after the checkpoint of
     step KILLED_AT: what kill -9 at that moment leaves (status "running")."""
     folder = tmp_path_factory.mktemp("resume")
+    run_killed_at(KILLED_AT, ERODIBLE, folder / "reference", folder / "killed")
+    return folder / "reference", folder / "killed"
+
+
+def run_killed_at(step: int, overrides: list[str], out: Path, killed: Path) -> None:
+    """trapezoid-erodible with ``overrides`` into ``out``, and into ``killed`` a copy of its
+    folder taken right after the checkpoint of ``step``: what kill -9 at that moment leaves
+    (status "running")."""
     with pytest.MonkeyPatch.context() as patch:
         def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
             path = write_checkpoint(run_dir, state)
-            if state.step == KILLED_AT:
-                shutil.copytree(run_dir.root, folder / "killed",
+            if state.step == step:
+                shutil.copytree(run_dir.root, killed,
                                 ignore=shutil.ignore_patterns(".granflow.lock"))
             return path
         patch.setattr(runner, "write_checkpoint", copy_at)
-        granflow.run("trapezoid-erodible", ERODIBLE, folder / "reference")
-    return folder / "reference", folder / "killed"
+        granflow.run("trapezoid-erodible", overrides, out)
 
 
 def test_a_killed_erodible_run_resumes_to_the_same_result(uninterrupted,
@@ -185,15 +192,7 @@ def test_a_killed_packing_run_resumes_to_the_same_result(tmp_path: Path) -> None
     uninterrupted run: every summary figure (but the wall time and the resume's own flag,
     the packing's range and mass error among them), every diagnostics row and the free
     surface to the digit."""
-    with pytest.MonkeyPatch.context() as patch:
-        def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
-            path = write_checkpoint(run_dir, state)
-            if state.step == PACKING_KILLED_AT:
-                shutil.copytree(run_dir.root, tmp_path / "killed",
-                                ignore=shutil.ignore_patterns(".granflow.lock"))
-            return path
-        patch.setattr(runner, "write_checkpoint", copy_at)
-        granflow.run("trapezoid-erodible", PACKING, tmp_path / "uninterrupted")
+    run_killed_at(PACKING_KILLED_AT, PACKING, tmp_path / "uninterrupted", tmp_path / "killed")
     killed_at = pd.read_csv(tmp_path / "killed" / "diagnostics.csv")["t"].iloc[-1]
     assert summary(tmp_path / "killed")["status"] == "running"
     resumed = granflow.resume(tmp_path / "killed", progress=False)

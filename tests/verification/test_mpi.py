@@ -6,7 +6,6 @@ tolerance.
 Needs the MPI extra (``pip install -e ".[mpi]"``: mpi4py and MPICH from the package index);
 skipped without it, except in CI, which installs it."""
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -18,14 +17,12 @@ import pytest
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from mpi_layer_3d import run  # noqa: E402
+from mpi_runs import HAVE_MPI, MPIEXEC, granflow_on_ranks, needs_mpi  # noqa: E402
 
-MPIEXEC = Path(sys.executable).parent / "mpiexec"
-HAVE_MPI = importlib.util.find_spec("mpi4py") is not None and MPIEXEC.exists()
 TOL = 1e-7      # numerics.tol of the plug-flow scenario: the nonlinear iteration's
 
 
-@pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
-                    reason='needs the MPI extra: pip install -e ".[mpi]"')
+@needs_mpi
 def test_two_ranks_agree_with_one() -> None:
     assert HAVE_MPI, 'CI installs the MPI extra: pip install -e ".[mpi]"'
     env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
@@ -47,21 +44,13 @@ COLUMN = ["geometry.dimension=3", "mesh.size=0.04", "time.t_end=0.02",
           "time.output_times=[0.01]", "boundary.channel_width=0.1"]
 
 
-@pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
-                    reason='needs the MPI extra: pip install -e ".[mpi]"')
+@needs_mpi
 def test_the_3d_column_on_two_ranks_is_the_serial_one(tmp_path: Path) -> None:
     """``mpiexec -n 2 granflow run`` of a coarse 3D column: the same steps and runout as
     one process (to the nonlinear tolerance), its outputs written once."""
     from granflow.app.api import run as run_case
 
-    assert HAVE_MPI, 'CI installs the MPI extra: pip install -e ".[mpi]"'
-    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-    sets = [arg for key in COLUMN for arg in ("--set", key)]
-    done = subprocess.run([str(MPIEXEC), "-n", "2", str(MPIEXEC.parent / "granflow"), "run",
-                           "rectangle-rigid", *sets, "--out", str(tmp_path / "two"),
-                           "--quiet"], capture_output=True, text=True, timeout=600, env=env,
-                          check=False)
-    assert done.returncode == 0, done.stderr[-2000:]
+    done = granflow_on_ranks("rectangle-rigid", COLUMN, tmp_path / "two")
     assert done.stdout.count("run directory") == 1, done.stdout      # rank 0 alone reports
     one = run_case("rectangle-rigid", COLUMN, out=tmp_path / "one", progress=False)
     two = json.loads((tmp_path / "two" / "summary.json").read_text())

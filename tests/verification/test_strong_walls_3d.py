@@ -10,7 +10,6 @@ the run takes the same steps and its runout is the same to that tolerance (the f
 1.2 mm displacement to 1e-4: the tolerance holds each step's velocity in L2, a front's
 point moves by their sum)."""
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -22,14 +21,15 @@ import pytest
 from granflow.app.api import run
 from granflow.config import ConfigError, load_config
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mpi_runs import MPIEXEC, granflow_on_ranks, needs_mpi  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[2]
 COLUMN = ["geometry.dimension=3", "mesh.size=0.04", "time.t_end=0.02",
           "time.output_times=[0.01]", "boundary.channel_width=0.1"]
 STRONG = [*COLUMN, "boundary.non_penetration=strong"]
 TOL = 1e-7      # numerics.tol of the column: the nonlinear iteration's
 L0 = 0.2        # the rectangle's length: the front starts there
-MPIEXEC = Path(sys.executable).parent / "mpiexec"
-HAVE_MPI = importlib.util.find_spec("mpi4py") is not None and MPIEXEC.exists()
 
 
 @pytest.mark.slow
@@ -46,19 +46,11 @@ def test_walls_held_strongly_flow_as_the_penalty_lets_them(tmp_path: Path) -> No
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
-                    reason='needs the MPI extra: pip install -e ".[mpi]"')
+@needs_mpi
 def test_walls_held_strongly_on_two_ranks_as_on_one(tmp_path: Path) -> None:
     """``mpiexec -n 2 granflow run``: the distributed solve holds the same components (the
     ranks update their spaces together), the same steps and runout as one process."""
-    assert HAVE_MPI, 'CI installs the MPI extra: pip install -e ".[mpi]"'
-    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-    sets = [arg for key in STRONG for arg in ("--set", key)]
-    done = subprocess.run([str(MPIEXEC), "-n", "2", str(MPIEXEC.parent / "granflow"), "run",
-                           "rectangle-rigid", *sets, "--out", str(tmp_path / "two"),
-                           "--quiet"], capture_output=True, text=True, timeout=600, env=env,
-                          check=False)
-    assert done.returncode == 0, done.stderr[-2000:]
+    granflow_on_ranks("rectangle-rigid", STRONG, tmp_path / "two")
     two = json.loads((tmp_path / "two" / "summary.json").read_text())
     one = run("rectangle-rigid", STRONG, out=tmp_path / "one", progress=False).summary
     assert two["status"] == one.status == "completed"
@@ -96,12 +88,10 @@ def test_the_iterative_solve_reaches_the_direct_one(tmp_path: Path) -> None:
     assert row["relative_error"] < 1e-6
 
 
-@pytest.mark.skipif(not HAVE_MPI and not os.environ.get("CI"),
-                    reason='needs the MPI extra: pip install -e ".[mpi]"')
+@needs_mpi
 def test_the_iterative_solve_on_two_ranks_is_the_serial_one(tmp_path: Path) -> None:
     """BDDC and GMRes distributed by NGSolve: the same steps, the same distance to the
     direct solution to GMRes's tolerance."""
-    assert HAVE_MPI, 'CI installs the MPI extra: pip install -e ".[mpi]"'
     one, two = _krylov(tmp_path / "one", 1), _krylov(tmp_path / "two", 2)
     assert two["ranks"] == 2 and two["unknowns"] == one["unknowns"]
     assert abs(two["gmres_steps"] - one["gmres_steps"]) <= 1
