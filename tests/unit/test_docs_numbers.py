@@ -47,6 +47,7 @@ CYL = "cylinder-erodible"
 
 SLOPE22_RUN = "slope22_steps/progress-slow.json"
 SLOPE22_PROFILE = "slope22_steps/profile-slow.json"
+SLOPE22_PAIR = "slope22_steps/slope22_steps.json"
 
 
 def _share(category: str) -> Callable[[Any], float]:
@@ -737,6 +738,20 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/performance.md", "The cylinder's rest rule moves by {} %: it is decided",
      ERODIBLE_SPEED, _stop_change("head-vs-slow", "cylinder-erodible"), ".0f", 1),
     # --- the slope study's 22-degree row with the slow flow's cap (slope22_steps.py, py-spy)
+    ("docs/performance.md", "`benchmarks/results/slope22_steps/slope22_steps.md`): {} s of",
+     SLOPE22_PAIR, "runs.dt_max.process_cpu_time_s", ".0f", 1),
+    ("docs/performance.md", "and {} s with the cap. With", SLOPE22_PAIR,
+     "runs.slow.process_cpu_time_s", ".0f", 1),
+    ("docs/performance.md", "the runout changes by {} %, the layer", SLOPE22_PAIR,
+     "changes.slow.changes_percent.runout_m", ".2f", 1),
+    ("docs/performance.md", "displaced\narea by {} % and", SLOPE22_PAIR,
+     "changes.slow.changes_percent.layer_displaced", ".2f", 1),
+    ("docs/performance.md", "largest mobilised area by {} %, within", SLOPE22_PAIR,
+     "changes.slow.changes_percent.layer_mobilised", ".2f", 1),
+    ("docs/performance.md", "at 0.5 s are {} mm apart on average", SLOPE22_PAIR,
+     "changes.slow.surfaces_mm.surface_mean_mm", ".2f", 1),
+    ("docs/performance.md", "on average and {} mm at most", SLOPE22_PAIR,
+     "changes.slow.surfaces_mm.surface_max_mm", ".1f", 1),
     ("docs/performance.md", "and stopped at t = {} s, before", SLOPE22_RUN, "t_s", ".2f", 1),
     ("docs/performance.md", "The cap raised {} of its", SLOPE22_RUN, "steps_above_dt_max",
      ",d", 1),
