@@ -11,6 +11,7 @@ import io
 import json
 import shutil
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -48,8 +49,9 @@ def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]
     return folder / "reference", folder / "killed"
 
 
-def run_killed_at(step: int, overrides: list[str], out: Path, killed: Path) -> None:
-    """trapezoid-erodible with ``overrides`` into ``out``, and into ``killed`` a copy of its
+def run_killed_at(step: int, overrides: dict[str, Any], out: Path, killed: Path,
+                  scenario: str = "trapezoid-erodible", progress: bool | None = None) -> None:
+    """``scenario`` with ``overrides`` into ``out``, and into ``killed`` a copy of its
     folder taken right after the checkpoint of ``step``: what kill -9 at that moment leaves
     (status "running")."""
     with pytest.MonkeyPatch.context() as patch:
@@ -60,7 +62,7 @@ def run_killed_at(step: int, overrides: list[str], out: Path, killed: Path) -> N
                                 ignore=shutil.ignore_patterns(".granflow.lock"))
             return path
         patch.setattr(runner, "write_checkpoint", copy_at)
-        granflow.run("trapezoid-erodible", overrides, out)
+        granflow.run(scenario, overrides, out, progress=progress)
 
 
 def test_a_killed_erodible_run_resumes_to_the_same_result(uninterrupted,
@@ -157,27 +159,26 @@ def test_a_nonlocal_run_continued_past_a_checkpoint_equals_it_resumed(tmp_path: 
     checkpoint are the same run: every summary figure (but the wall time and the resume's
     own flag) and the free surface to the digit (the fluidity's factorisation, too, starts
     afresh after a checkpoint)."""
-    with pytest.MonkeyPatch.context() as patch:
-        def copy_at(run_dir: RunDir, state: SimulationState) -> Path:
-            path = write_checkpoint(run_dir, state)
-            if state.step == NONLOCAL_KILLED_AT:
-                shutil.copytree(run_dir.root, tmp_path / "killed",
-                                ignore=shutil.ignore_patterns(".granflow.lock"))
-            return path
-        patch.setattr(runner, "write_checkpoint", copy_at)
-        granflow.run("rectangle-rigid", NONLOCAL, tmp_path / "continued", progress=False)
+    run_killed_at(NONLOCAL_KILLED_AT, NONLOCAL, tmp_path / "continued", tmp_path / "killed",
+                  scenario="rectangle-rigid", progress=False)
     resumed = granflow.resume(tmp_path / "killed", progress=False)
-    first, again = summary(tmp_path / "continued"), summary(resumed.root)
+    first = summary(tmp_path / "continued")
     assert first["status"] == "completed" and first["steps"] > 2 * NONLOCAL_KILLED_AT
+    assert_resumed_is_uninterrupted(resumed, tmp_path / "continued")
+
+
+def assert_resumed_is_uninterrupted(resumed: granflow.Run, uninterrupted: Path) -> None:
+    """Every summary figure but the wall time and the resume's own flag, every diagnostics
+    row and the final free surface: the resumed run is the uninterrupted one to the digit."""
+    first, again = summary(uninterrupted), summary(resumed.root)
     assert again["resumed"] is True
     own = {"wall_time_s", "resumed"}
     assert {k: v for k, v in again.items() if k not in own} == {
         k: v for k, v in first.items() if k not in own}
-    pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "continued" / "diagnostics.csv"),
+    pd.testing.assert_frame_equal(pd.read_csv(uninterrupted / "diagnostics.csv"),
                                   resumed.diagnostics, rtol=0, atol=0)
     surface = Path("profiles") / "free_surface_final.csv"
-    assert (resumed.root / surface).read_bytes() == (
-        tmp_path / "continued" / surface).read_bytes()
+    assert (resumed.root / surface).read_bytes() == (uninterrupted / surface).read_bytes()
 
 
 # The erodible set-up above with a packing fraction: a dense column (phi_0 = 0.62) over a
@@ -196,18 +197,10 @@ def test_a_killed_packing_run_resumes_to_the_same_result(tmp_path: Path) -> None
     killed_at = pd.read_csv(tmp_path / "killed" / "diagnostics.csv")["t"].iloc[-1]
     assert summary(tmp_path / "killed")["status"] == "running"
     resumed = granflow.resume(tmp_path / "killed", progress=False)
-    first, again = summary(tmp_path / "uninterrupted"), summary(resumed.root)
+    first = summary(tmp_path / "uninterrupted")
     assert first["status"] == "completed"
     remeshed = np.array(first["remesh_times_s"])
     assert (remeshed <= killed_at).any() and (remeshed > killed_at).any()   # before, after
     assert first["packing_min"] < 0.58 + 1e-3 and first["packing_max"] > 0.62 - 1e-3
     assert first["volume_relative_error"] != 0.0              # the packing changed
-    assert again["resumed"] is True
-    own = {"wall_time_s", "resumed"}
-    assert {k: v for k, v in again.items() if k not in own} == {
-        k: v for k, v in first.items() if k not in own}
-    pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "uninterrupted" / "diagnostics.csv"),
-                                  resumed.diagnostics, rtol=0, atol=0)
-    surface = Path("profiles") / "free_surface_final.csv"
-    assert (resumed.root / surface).read_bytes() == (
-        tmp_path / "uninterrupted" / surface).read_bytes()
+    assert_resumed_is_uninterrupted(resumed, tmp_path / "uninterrupted")
