@@ -13,7 +13,7 @@ inside when it is within NGSolve's own tolerance of a triangle (barycentric coor
 above -1e-6), as NGSolve's search decides; that search rebuilds its tree whenever the
 vertices have moved (about 5 ms for a thousand triangles and 4,500 points, every step).
 The fields are then evaluated by NGSolve on one array of mesh points (its compiled
-evaluation).
+evaluation), sorted by triangle (half the time of the points' own order, the same values).
 """
 
 from __future__ import annotations
@@ -79,16 +79,18 @@ class PointLocator:
         if fresh.any():
             tree = cKDTree(corners.mean(axis=1))
             current[fresh] = tree.query(points[fresh])[1]
-        todo = np.arange(n)
+        frames = _Frames(corners)
+        todo, px, py = np.arange(n), points[:, 0].copy(), points[:, 1].copy()
         for _ in range(WALK_STEPS):
-            coords = _barycentric(corners[current], points[todo])
-            lowest = coords.min(axis=1)
-            step = self.across[current, np.argmin(coords, axis=1)]
+            l0, l1, l2 = frames.barycentric(current, px, py)
+            lowest, corner = _lowest(l0, l1, l2)
+            step = self.across[current, corner]
             found = (lowest >= 0.0) | ((step < 0) & (lowest >= -TOLERANCE))
-            element[todo[found]] = current[found]
-            lam[todo[found]] = coords[found, :2]
+            at = todo[found]
+            element[at] = current[found]
+            lam[at, 0], lam[at, 1] = l0[found], l1[found]
             go = ~found & (step >= 0)
-            todo, current = todo[go], step[go]
+            todo, current, px, py = todo[go], step[go], px[go], py[go]
             if not len(todo):
                 break
         missed = np.flatnonzero(element < 0)
@@ -141,9 +143,11 @@ class PointLocator:
         triangle around it)."""
         out = np.empty((len(points), cf.dim))
         inside = element >= 0
-        if inside.any():
-            found = self.mesh_points(element[inside], lam[inside])
-            out[inside] = np.asarray(cf(found)).reshape(-1, cf.dim)
+        if inside.any():        # triangle by triangle: NGSolve reads each one's dofs once
+            order = np.flatnonzero(inside)
+            order = order[np.argsort(element[order], kind="stable")]
+            found = self.mesh_points(element[order], lam[order])
+            out[order] = np.asarray(cf(found)).reshape(-1, cf.dim)
         if not inside.all():
             xy = self.mesh.ngmesh.Coordinates()
             nearest = cKDTree(xy).query(points[~inside])[1]
@@ -176,6 +180,40 @@ def _boundary_loop(mesh: ngs.Mesh) -> np.ndarray:
             break
         loop.append(nxt)
     return np.array(loop, dtype=np.int64)
+
+
+class _Frames:
+    """Per triangle, the terms ``_barycentric`` computes its coordinates from, as flat
+    arrays (the same numbers, gathered per point faster than the corners)."""
+
+    def __init__(self, corners: np.ndarray) -> None:
+        c = np.ascontiguousarray(corners.transpose(2, 1, 0))     # (x/y, corner, triangle)
+        self.ox, self.oy = c[0, 2], c[1, 2]
+        self.ax, self.ay = c[0, 0] - self.ox, c[1, 0] - self.oy
+        self.bx, self.by = c[0, 1] - self.ox, c[1, 1] - self.oy
+        self.det = self.ax * self.by - self.ay * self.bx
+
+    def barycentric(self, element: np.ndarray, px: np.ndarray, py: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The three barycentric coordinates of the points (px, py) in their triangles."""
+        rx, ry = px - self.ox[element], py - self.oy[element]
+        ax, ay, bx, by = (self.ax[element], self.ay[element], self.bx[element],
+                          self.by[element])
+        det = self.det[element]
+        l0 = (rx * by - ry * bx) / det
+        l1 = (ax * ry - ay * rx) / det
+        return l0, l1, 1.0 - l0 - l1
+
+
+def _lowest(l0: np.ndarray, l1: np.ndarray, l2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest of three coordinates and which one (the first of equals, as argmin;
+    a NaN of a flat triangle is the smallest)."""
+    lowest = np.minimum(np.minimum(l0, l1), l2)
+    corner = np.where(l0 == lowest, 0, np.where(l1 == lowest, 1, 2))
+    flat = np.isnan(lowest)
+    if flat.any():
+        corner[flat] = np.argmin(np.stack([l0[flat], l1[flat], l2[flat]], axis=1), axis=1)
+    return lowest, corner
 
 
 def _barycentric(c: np.ndarray, p: np.ndarray) -> np.ndarray:
