@@ -10,7 +10,7 @@ in processor time (median of REPEAT calls), what ``LayerTracking`` does after an
 step: ``sample`` (the line and markers located, the velocity and its rate read there),
 ``measures`` (the diagnostics row's entrainment columns) and ``LayerMaterial.advance`` (the
 line and markers moved, the line refined, untangled and coarsened; on a copy). Writes
-OUT/TAG.json with the code's location, and OUT/layer_tracking_step.md comparing every tag
+OUT/TAG.json and OUT/layer_tracking_step.md comparing every tag
 recorded there.
 """
 
@@ -26,7 +26,6 @@ from pathlib import Path
 import numpy as np
 from common.results import read_results, write_json, write_markdown
 
-import granflow
 from granflow.config import load_config
 from granflow.scenarios.column import build_column
 
@@ -70,9 +69,7 @@ def main(argv: list[str]) -> None:
                         default=Path("benchmarks/results/layer_tracking_step"))
     args = parser.parse_args(argv)
     states = {f"{at:g}": parts_at(at, args.repeat) for at in args.at}
-    write_json(args.out / f"{args.tag}.json",
-               {"code": str(Path(granflow.__file__).parents[1]), "repeat": args.repeat,
-                "states": states})
+    write_json(args.out / f"{args.tag}.json", {"repeat": args.repeat, "states": states})
     lines = ["| code | t (s) | triangles | line points | markers | "
              + " | ".join(f"{p} (ms)" for p in PARTS) + " | a step (ms) |",
              "|---|---|---|---|---|" + "---|" * (len(PARTS) + 1)]

@@ -7,8 +7,9 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 from netgen.geom2d import SplineGeometry
+from scipy.spatial import cKDTree
 
-from granflow.fem.locator import PointLocator, _barycentric, _lowest, neighbours
+from granflow.fem.locator import PointLocator, _barycentric, _lowest, nearest, neighbours
 from granflow.fem.sampling import triangles, values_at
 
 
@@ -110,3 +111,12 @@ def test_values_do_not_depend_on_the_order_of_the_points() -> None:
     together = locator.values(u, points)
     alone = np.vstack([locator.values(u, p[None]) for p in points[:50]])
     assert np.array_equal(together[:50], alone)
+
+
+def test_a_few_points_find_the_nearest_site_the_tree_finds() -> None:
+    """Without a tree (a few points) the same nearest sites as the k-d tree's."""
+    rng = np.random.default_rng(11)
+    sites, points = rng.random((900, 2)), 1.2 * rng.random((40, 2)) - 0.1
+    assert np.array_equal(nearest(sites, points), cKDTree(sites).query(points)[1])
+    many = rng.random((400, 2))
+    assert np.array_equal(nearest(sites, many), cKDTree(sites).query(many)[1])

@@ -4,8 +4,8 @@ A material point tracked through the flow (an erodible layer's line and markers)
 after step, in the triangle it lay in before or in a neighbour of it. ``PointLocator``
 builds the triangles' neighbours once per mesh (the ALE moves the vertices, never the
 connectivity) and walks, for all points together with numpy, from a first guess (the
-triangle the point was in at the last call, else the one whose centroid is nearest, from
-a k-d tree of the current centroids) across the edge facing the point until the point's
+triangle the point was in at the last call, else the one whose centroid is nearest: from
+a k-d tree of the current centroids, or for a few points their distances to every one) across the edge facing the point until the point's
 barycentric coordinates are all non-negative. A point whose walk leaves the mesh is
 outside if it is outside the boundary polygon by more than the tolerance, else (behind a
 concave stretch of the boundary, or on it) tested against every triangle. A point is
@@ -28,6 +28,7 @@ from granflow.fem.sampling import triangles
 WALK_STEPS = 16     # triangles crossed at most before a point is tested against all
 TOLERANCE = 1e-6    # NGSolve's: a point with barycentric coordinates above -TOLERANCE is in
 CHUNK = 2_000_000   # point-triangle pairs tested at once by the exhaustive search
+FEW_PAIRS = 50_000  # point-site pairs under which the nearest site is found without a tree
 
 
 def neighbours(tri: np.ndarray) -> np.ndarray:
@@ -59,6 +60,7 @@ class PointLocator:
         self._dtype, self._meshptr = template.dtype, template["meshptr"][0]
         self.loop = _boundary_loop(mesh)
         self.searched = 0     # points tested against every triangle (the walk's misses)
+        self._owners: tuple[np.ndarray, np.ndarray] | None = None   # (``at_vertices``)
 
     def locate(self, points: np.ndarray, guess: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
@@ -77,8 +79,7 @@ class PointLocator:
                    else np.asarray(guess, dtype=np.int64).copy())
         fresh = current < 0
         if fresh.any():
-            tree = cKDTree(corners.mean(axis=1))
-            current[fresh] = tree.query(points[fresh])[1]
+            current[fresh] = nearest(corners.mean(axis=1), points[fresh])
         frames = _Frames(corners)
         todo, px, py = np.arange(n), points[:, 0].copy(), points[:, 1].copy()
         for _ in range(WALK_STEPS):
@@ -150,23 +151,35 @@ class PointLocator:
             out[order] = np.asarray(cf(found)).reshape(-1, cf.dim)
         if not inside.all():
             xy = self.mesh.ngmesh.Coordinates()
-            nearest = cKDTree(xy).query(points[~inside])[1]
-            out[~inside] = self.at_vertices(cf, nearest)
+            out[~inside] = self.at_vertices(cf, nearest(xy, points[~inside]))
         return out
 
     def at_vertices(self, cf: ngs.CoefficientFunction, vertices: np.ndarray) -> np.ndarray:
         """``cf`` at mesh vertices, each read in one triangle that has it as a corner."""
-        owner = np.full(self.mesh.nv, -1, dtype=np.int64)
-        corner = np.zeros(self.mesh.nv, dtype=np.int64)
-        for k in (2, 1, 0):          # any triangle will do; the lowest corner number wins
-            owner[self.tri[:, k]] = np.arange(len(self.tri))
-            corner[self.tri[:, k]] = k
+        if self._owners is None:     # once per mesh: the connectivity does not change
+            owner = np.full(self.mesh.nv, -1, dtype=np.int64)
+            corner = np.zeros(self.mesh.nv, dtype=np.int64)
+            for k in (2, 1, 0):      # any triangle will do; the lowest corner number wins
+                owner[self.tri[:, k]] = np.arange(len(self.tri))
+                corner[self.tri[:, k]] = k
+            self._owners = owner, corner
+        owner, corner = self._owners
         lam = np.zeros((len(vertices), 2))
         which = corner[vertices]
         lam[which == 0, 0] = 1.0
         lam[which == 1, 1] = 1.0
         found = self.mesh_points(owner[vertices], lam)
         return np.asarray(cf(found)).reshape(-1, cf.dim)
+
+
+def nearest(sites: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Per point, the index of the nearest site: by a k-d tree, or for a few points (the
+    walk's misses a step leaves, a tree not worth building) by their squared distances to
+    every site, the sums the tree compares."""
+    if len(points) * len(sites) > FEW_PAIRS:
+        return cKDTree(sites).query(points)[1]
+    d = sites[None, :, :] - points[:, None, :]
+    return np.argmin(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1], axis=1)
 
 
 def _boundary_loop(mesh: ngs.Mesh) -> np.ndarray:
