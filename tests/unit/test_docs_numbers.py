@@ -45,9 +45,17 @@ CYL_PAIR, CYL_CREEP = "cylinder_rest/cyl-compat-vs-cyl-auto.json", "cylinder_res
 CYL = "cylinder-erodible"
 
 
+STEP_BEFORE = "layer_tracking_step/fe447ab.json"
+STEP_AFTER = "layer_tracking_step/01e34ac.json"
 SLOPE22_RUN = "slope22_steps/progress-slow.json"
 SLOPE22_PROFILE = "slope22_steps/profile-slow.json"
 SLOPE22_PAIR = "slope22_steps/slope22_steps.json"
+
+
+def _step(at: str, part: str = "") -> Callable[[Any], float]:
+    """benchmarks/layer_tracking_step.py: a part of the tracking's step (ms) at time AT, or
+    the whole step."""
+    return lambda d: d["states"][at]["costs_ms"][part] if part else d["states"][at]["step_ms"]
 
 
 def _share(category: str) -> Callable[[Any], float]:
@@ -722,6 +730,27 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      ".4f", 1),
     ("docs/verification.md", "s against {} s, load", PACKING_COST,
      _step_cost("incompressible"), ".4f", 1),
+    # --- the tracking's step, part by part (benchmarks/layer_tracking_step.py)
+    ("docs/performance.md", "a step's tracking took {} ms before", STEP_BEFORE,
+     _step("0.3"), ".2f", 1),
+    ("docs/performance.md", "ms before and {} ms now (the sample", STEP_AFTER,
+     _step("0.3"), ".2f", 1),
+    ("docs/performance.md", "now (the sample {} ->", STEP_BEFORE,
+     _step("0.3", "sample"), ".2f", 1),
+    ("docs/performance.md", "-> {} ms); at 0.6 s", STEP_AFTER,
+     _step("0.3", "sample"), ".2f", 1),
+    ("docs/performance.md", "outside the mesh, {} and", STEP_BEFORE,
+     _step("0.6"), ".2f", 1),
+    ("docs/performance.md", "and {} ms (the sample 3", STEP_AFTER,
+     _step("0.6"), ".2f", 1),
+    ("docs/performance.md", "ms (the sample {} -> 2", STEP_BEFORE,
+     _step("0.6", "sample"), ".2f", 1),
+    ("docs/performance.md", "-> {} ms). The measures", STEP_AFTER,
+     _step("0.6", "sample"), ".2f", 1),
+    ("CHANGELOG.md", "`trapezoid-erodible`: {} -> 3", STEP_BEFORE, _step("0.3"), ".2f", 1),
+    ("CHANGELOG.md", "-> {} ms at 0.3 s", STEP_AFTER, _step("0.3"), ".2f", 1),
+    ("CHANGELOG.md", "at 0.3 s and {} -> 5", STEP_BEFORE, _step("0.6"), ".2f", 1),
+    ("CHANGELOG.md", "-> {} ms at 0.6 s", STEP_AFTER, _step("0.6"), ".2f", 1),
     # --- the erodible bed on the user's clock (benchmarks/erodible_speed.py and py-spy)
     ("docs/performance.md", "the tracking fell from {} % to",
      "profile_shares/trapezoid-erodible-284e367.json", "shares.erodible layer tracking",
