@@ -47,6 +47,10 @@ CYL = "cylinder-erodible"
 
 STEP_BEFORE = "layer_tracking_step/fe447ab.json"
 STEP_AFTER = "layer_tracking_step/01e34ac.json"
+PROFILE_BEFORE = "profile_shares/trapezoid-erodible-fe447ab.json"
+PROFILE_AFTER = "profile_shares/trapezoid-erodible-01e34ac.json"
+TRACKING_PAIR = "speed_targets/tracking/speed_targets.json"
+TRACKING_BASE = "speed_targets/tracking-baseline/speed_targets.json"
 SLOPE22_RUN = "slope22_steps/progress-slow.json"
 SLOPE22_PROFILE = "slope22_steps/profile-slow.json"
 SLOPE22_PAIR = "slope22_steps/slope22_steps.json"
@@ -731,7 +735,7 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/verification.md", "s against {} s, load", PACKING_COST,
      _step_cost("incompressible"), ".4f", 1),
     # --- the tracking's step, part by part (benchmarks/layer_tracking_step.py)
-    ("docs/performance.md", "a step's tracking took {} ms before", STEP_BEFORE,
+    ("docs/performance.md", "at 0.3 s a step's tracking took {} ms before", STEP_BEFORE,
      _step("0.3"), ".2f", 1),
     ("docs/performance.md", "ms before and {} ms now (the sample", STEP_AFTER,
      _step("0.3"), ".2f", 1),
@@ -747,6 +751,30 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _step("0.6", "sample"), ".2f", 1),
     ("docs/performance.md", "-> {} ms). The measures", STEP_AFTER,
      _step("0.6", "sample"), ".2f", 1),
+    ("docs/performance.md", "the erosion figure included) at {} % and", PROFILE_BEFORE,
+     "shares.erodible layer tracking", ".1f", 100),
+    ("docs/performance.md", "% and {} % of the process. Three rounds", PROFILE_AFTER,
+     "shares.erodible layer tracking", ".1f", 100),
+    ("docs/performance.md", "`trapezoid-rigid` {} s and `trapezoid-erodible`", TRACKING_PAIR,
+     "trapezoid.stats.quiet.cpu_s.first", ".1f", 1),
+    ("docs/performance.md", "`trapezoid-erodible` {} s of processor time,", TRACKING_PAIR,
+     "trapezoid.stats.quiet.cpu_s.second", ".1f", 1),
+    ("docs/performance.md", "processor time, ratio {}, as on the nearly idle", TRACKING_PAIR,
+     "trapezoid.stats.quiet.cpu_ratio", ".2f", 1),
+    ("docs/performance.md", "tracking-baseline/`): {} s and", TRACKING_BASE,
+     "baseline.stats.quiet.cpu_s.first", ".1f", 1),
+    ("docs/performance.md", "s and {} s, ratio 0", TRACKING_BASE,
+     "baseline.stats.quiet.cpu_s.second", ".1f", 1),
+    ("docs/performance.md", "s, ratio {}, the rounds' ratios", TRACKING_BASE,
+     "baseline.stats.quiet.cpu_ratio", ".2f", 1),
+    ("docs/performance.md", "spreading from {} to", TRACKING_BASE,
+     lambda d: min(b["process_cpu_time_s"] / a["process_cpu_time_s"] for a, b in zip(
+         d["baseline"]["runs"]["quiet"]["first"], d["baseline"]["runs"]["quiet"]["second"],
+         strict=True)), ".2f", 1),
+    ("docs/performance.md", "from 0.87 to {}.", TRACKING_BASE,
+     lambda d: max(b["process_cpu_time_s"] / a["process_cpu_time_s"] for a, b in zip(
+         d["baseline"]["runs"]["quiet"]["first"], d["baseline"]["runs"]["quiet"]["second"],
+         strict=True)), ".2f", 1),
     ("CHANGELOG.md", "`trapezoid-erodible`: {} -> 3", STEP_BEFORE, _step("0.3"), ".2f", 1),
     ("CHANGELOG.md", "-> {} ms at 0.3 s", STEP_AFTER, _step("0.3"), ".2f", 1),
     ("CHANGELOG.md", "at 0.3 s and {} -> 5", STEP_BEFORE, _step("0.6"), ".2f", 1),
