@@ -40,6 +40,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import json
+import os
 import pstats
 import resource
 import subprocess
@@ -66,6 +67,7 @@ def _cpu(who: int) -> tuple[float, float]:
 def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, Any]:
     sets = [*(CHANNEL[1:] if two_d else CHANNEL), f"mesh.size={size!r}"]
     folder = out / (f"run2d_h{size:g}" if two_d else f"run_h{size:g}_n{ranks}")
+    load, wall = os.getloadavg(), time.perf_counter()
     if ranks == 1:
         profiler = cProfile.Profile(time.process_time)   # processor, not wall, seconds
         cpu0, _ = _cpu(resource.RUSAGE_SELF)
@@ -87,6 +89,8 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, A
         subprocess.run(args, check=True)
         cpu1, peak = _cpu(resource.RUSAGE_CHILDREN)
         result, top = Run(folder), []
+    wall = time.perf_counter() - wall
+    load = [round(a, 2) for a in (*load, *os.getloadavg())]   # 1, 5, 15 min: before, after
     s = result.summary
     figures = {key: getattr(s, key, None) for key in (
         "status", "message", "steps", "rejected_steps", "nonlinear_iterations", "n_dofs",
@@ -96,8 +100,8 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, A
     figures |= {key: raw.get(key) for key in ("runout_wall_m", "runout_centre_m",
                                               "wall_height_m", "remeshes",
                                               "min_tetrahedron_quality")}
-    return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "peak_mb": peak,
-            **figures, "profile": top}
+    return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "wall_s": wall,
+            "load_average": load, "peak_mb": peak, **figures, "profile": top}
 
 
 def behind_front(plane: Run, slab: Run, t: float, size: float) -> float:
