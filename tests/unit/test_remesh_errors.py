@@ -62,3 +62,23 @@ def test_a_run_whose_remesh_raises_a_defect_fails_at_once_with_a_readable_folder
         assert part in summary["message"]
     assert run.summary.status == "failed" and (out / "checkpoint").is_dir()
     assert len(run.diagnostics["t"]) == 3           # the step that asked for it is kept
+
+
+def test_the_loops_retry_what_their_meshers_raise() -> None:
+    """The column's loop retries Netgen's and the geometry checks' failures; the channel's
+    also OCC's (a loft OCC cannot build); neither a defect."""
+    from netgen.occ import OCCException
+
+    from granflow.config import load_config
+    from granflow.scenarios.channel_column import build_channel_column
+    from granflow.scenarios.column import build_column
+
+    column = build_column(load_config("rectangle-rigid", ["mesh.size=0.04"])).simulation
+    channel = build_channel_column(load_config("rectangle-rigid", [
+        "mesh.size=0.04", "geometry.dimension=3", "boundary.channel_width=0.1"])).simulation
+    for error in (MeshingFailed("x"), RuntimeError("x")):
+        assert mesher_failed(error, column.mesher_failures)
+        assert mesher_failed(error, channel.mesher_failures)
+    assert mesher_failed(OCCException("x"), channel.mesher_failures)
+    for defect in (TypeError("x"), AttributeError("x"), NotImplementedError("x")):
+        assert not mesher_failed(defect, channel.mesher_failures)
