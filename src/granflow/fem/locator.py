@@ -24,6 +24,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from granflow.fem.sampling import triangles
+from granflow.simulation.outcomes import MeshingFailed
 
 WALK_STEPS = 16     # triangles crossed at most before a point is tested against all
 TOLERANCE = 1e-6    # NGSolve's: a point with barycentric coordinates above -TOLERANCE is in
@@ -96,15 +97,24 @@ class PointLocator:
                 break
         missed = np.flatnonzero(element < 0)
         if len(missed):       # outside, unless behind a concave stretch of the boundary
-            polygon = shapely.Polygon(xy[self.loop])    # or on it, within the tolerance
             edges = np.hypot(*(corners - np.roll(corners, 1, axis=1)).transpose(2, 0, 1))
-            near = shapely.dwithin(polygon, shapely.points(points[missed]),
-                                   TOLERANCE * float(edges.max()))
-            missed = missed[near]
+            missed = missed[self._near_boundary(xy, points[missed],   # or on it, within
+                                                TOLERANCE * float(edges.max()))]  # the tolerance
         if len(missed):
             self.searched += len(missed)
             element[missed], lam[missed] = self._search(corners, points[missed])
         return element, lam
+
+    def _near_boundary(self, xy: np.ndarray, points: np.ndarray, distance: float
+                       ) -> np.ndarray:
+        """Which ``points`` lie within ``distance`` of the mesh's boundary polygon. A
+        boundary too degenerate for shapely (fewer than three vertices, a topology GEOS
+        rejects) is the mesher's failure, not a defect (``MeshingFailed``)."""
+        try:
+            polygon = shapely.Polygon(xy[self.loop])
+            return shapely.dwithin(polygon, shapely.points(points), distance)
+        except (ValueError, shapely.errors.GEOSException) as exc:
+            raise MeshingFailed(f"the mesh's boundary is not a polygon: {exc}") from exc
 
     def _search(self, corners: np.ndarray, points: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray]:
