@@ -5,8 +5,9 @@ after step, in the triangle it lay in before or in a neighbour of it. ``PointLoc
 builds the triangles' neighbours once per mesh (the ALE moves the vertices, never the
 connectivity) and walks, for all points together with numpy, from a first guess (the
 triangle the point was in at the last call, else the one whose centroid is nearest: from
-a k-d tree of the current centroids, or for a few points their distances to every one) across the edge facing the point until the point's
-barycentric coordinates are all non-negative. A point whose walk leaves the mesh is
+a k-d tree of the current centroids, or for a few points their distances to every one)
+across the edge facing the point until the point's barycentric coordinates are all
+non-negative. A point whose walk leaves the mesh is
 outside if it is outside the boundary polygon by more than the tolerance, else (behind a
 concave stretch of the boundary, or on it) tested against every triangle. A point is
 inside when it is within NGSolve's own tolerance of a triangle (barycentric coordinates
