@@ -1,0 +1,205 @@
+"""Benchmark: PETSc's own block preconditioners (PCFIELDSPLIT, no external package) on the
+3D systems of (3.2) that ``three_d_krylov.py`` builds, against the direct solve (UMFPACK).
+
+Run: python benchmarks/three_d_fieldsplit.py [--state rest flowing front] [--size 0.04 0.02]
+         [--eps 1e-6] [--variants lsc-lu lsc-gamg selfp-lu selfp-gamg mass-lu]
+         [--out benchmarks/results/three_d_krylov]
+
+Needs petsc4py (PETSc built without external packages is enough); without it the script
+says so in one line and exits. One process. The system is ``three_d_krylov.py``'s: the
+column (rectangle-rigid in half a 10 cm channel, walls' u.N = 0 held strongly) at
+mesh.size, one Picard iteration's matrix at the iterate ``rest``, ``flowing`` or ``front``.
+Its free dofs go to PETSc as one AIJ matrix with two index sets (velocity, pressure); FGMRes
+(unrestarted, at most --max-steps, relative unpreconditioned residual 1e-8) is
+preconditioned by the Schur complement factorisation ``full`` with, by variant:
+
+- ``lsc-lu`` / ``lsc-gamg``: the Schur complement approximated by PETSc's least-squares
+  commutator scaled by the velocity block's diagonal (``-pc_lsc_scale_diag``: the scaled
+  BFBt of May and Moresi 2008 for variable-viscosity Stokes), its pressure Poisson solve by
+  LU; the velocity block by LU or by GAMG (one V-cycle);
+- ``selfp-lu`` / ``selfp-gamg``: the Schur complement approximated by
+  A11 - A10 diag(A00)^-1 A01, inverted by LU / by GAMG, the velocity block by LU / GAMG;
+- ``mass-lu``: the pressure mass weighted by 2 / m (the inverse effective viscosity, as in
+  ``common/block_preconditioner.py``) by its diagonal, the velocity block by LU.
+
+Per case: converged or not, FGMRes steps, processor seconds of the set-up and the solve,
+the relative distance to the direct solution. Writes fieldsplit_<state>_h<size>.json under
+--out; the prediction is benchmarks/results/three_d_krylov/PREDICTION_fieldsplit.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+TOL = 1e-8
+VARIANTS = {
+    "lsc-lu": {"schur": "self", "u": "lu", "p": "lsc"},
+    "lsc-gamg": {"schur": "self", "u": "gamg", "p": "lsc"},
+    "selfp-lu": {"schur": "selfp", "u": "lu", "p": "lu"},
+    "selfp-gamg": {"schur": "selfp", "u": "gamg", "p": "gamg"},
+    "mass-lu": {"schur": "user", "u": "lu", "p": "jacobi"},
+}
+
+
+def petsc():
+    """petsc4py's PETSc, or None where it is not installed."""
+    try:
+        from petsc4py import PETSc
+    except ImportError:
+        return None
+    return PETSc
+
+
+def to_petsc(PETSc, matrix, free):
+    """The free rows and columns of an NGSolve sparse matrix as a PETSc AIJ matrix."""
+    import numpy as np
+    import scipy.sparse as sp
+
+    rows, cols, vals = matrix.COO()
+    csr = sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))),
+                        shape=matrix.shape)[free][:, free].tocsr()
+    mat = PETSc.Mat().createAIJ(size=csr.shape, csr=(
+        csr.indptr.astype(PETSc.IntType), csr.indices.astype(PETSc.IntType), csr.data))
+    mat.assemble()
+    return mat
+
+
+def configure(PETSc, ksp, variant: str, velocity, pressure, mass, steps: int) -> None:
+    """FGMRes with the fieldsplit preconditioner of ``variant`` (module docstring)."""
+    kind = VARIANTS[variant]
+    ksp.setType("fgmres")
+    ksp.setGMRESRestart(steps)
+    ksp.setTolerances(rtol=TOL, atol=0.0, max_it=steps)
+    pc = ksp.getPC()
+    pc.setType("fieldsplit")
+    pc.setFieldSplitIS(("u", velocity), ("p", pressure))
+    pc.setFieldSplitType(PETSc.PC.CompositeType.SCHUR)
+    pc.setFieldSplitSchurFactType(PETSc.PC.FieldSplitSchurFactType.FULL)
+    pre = {"self": PETSc.PC.FieldSplitSchurPreType.SELF,
+           "selfp": PETSc.PC.FieldSplitSchurPreType.SELFP,
+           "user": PETSc.PC.FieldSplitSchurPreType.USER}[kind["schur"]]
+    pc.setFieldSplitSchurPreType(pre, mass if kind["schur"] == "user" else None)
+    options = PETSc.Options()
+    prefix = ksp.getOptionsPrefix() or ""
+    for name, value in {"fieldsplit_u_ksp_type": "preonly", "fieldsplit_u_pc_type": kind["u"],
+                        "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": kind["p"],
+                        "fieldsplit_p_lsc_ksp_type": "preonly",
+                        "fieldsplit_p_lsc_pc_type": "lu"}.items():
+        options[prefix + name] = value
+    if kind["p"] == "lsc":
+        options[prefix + "fieldsplit_p_pc_lsc_scale_diag"] = None
+    ksp.setFromOptions()
+
+
+def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: list[str],
+            steps: int) -> list[dict]:
+    import ngsolve as ngs
+    import numpy as np
+    from common.block_preconditioner import pressure_forms
+    from three_d_krylov import FRONT, system
+
+    from granflow.fem.forms import ViscoplasticStress
+    from granflow.fem.measure import SPACE
+
+    solver, slump, hydrostatic = system("column", eps, size, None)
+    space = solver.space
+    velocity, pressure = solver.solution.components
+    pressure.Set(hydrostatic)
+    share = {"flowing": ngs.CF(1.0), "rest": ngs.CF(0.0),
+             "front": ngs.IfPos(ngs.x - FRONT, ((ngs.x - FRONT) / FRONT) ** 2, 0.0)}
+    velocity.Set(slump * share[state])
+    solver.previous.vec.data = solver.solution.vec
+    solver.scheme.begin_step(dt)
+    picard = solver.nonlinear.picard_system
+    picard.prepare()
+    matrix = picard.assemble()
+    rhs = picard.f.vec
+    free = np.array(list(space.FreeDofs()), dtype=bool)
+    c0 = time.process_time()
+    exact = rhs.CreateVector()
+    exact.data = matrix.Inverse(space.FreeDofs(), inverse="umfpack") * rhs
+    direct_cpu = time.process_time() - c0
+    exact_free = exact.FV().NumPy()[free]
+
+    stress = next(t for t in solver.terms if isinstance(t, ViscoplasticStress))
+    m = stress.viscosity(*solver.solution.components)
+    mass_form = pressure_forms(space.components[1], m, solver.terms, SPACE, "viscous")[0]
+    mass_form.Assemble()
+    split = space.Range(0).stop
+    free_p = free[split:]
+    mass = to_petsc(PETSc, mass_form.mat, free_p)
+    a = to_petsc(PETSc, matrix, free)
+    n_u = int(free[:split].sum())
+    n = int(free.sum())
+    is_u = PETSc.IS().createStride(n_u, 0, 1)
+    is_p = PETSc.IS().createStride(n - n_u, n_u, 1)
+    b = PETSc.Vec().createWithArray(rhs.FV().NumPy()[free].copy())
+    rows = []
+    for variant in variants:
+        ksp = PETSc.KSP().create()
+        ksp.setOptionsPrefix(f"{variant.replace('-', '_')}_")
+        ksp.setOperators(a)
+        configure(PETSc, ksp, variant, is_u, is_p, mass, steps)
+        x = b.duplicate()
+        x.set(0.0)
+        c0 = c1 = time.process_time()
+        try:
+            ksp.setUp()
+            c1 = time.process_time()
+            ksp.solve(b, x)
+            failure = None
+        except PETSc.Error as error:
+            failure = f"PETSc error {error.ierr}"
+        c2 = time.process_time()
+        reason = ksp.getConvergedReason()
+        difference = float(np.linalg.norm(x.getArray() - exact_free)
+                           / np.linalg.norm(exact_free))
+        rows.append({"case": "column", "state": state, "size": size, "eps": eps, "dt": dt,
+                     "variant": variant, **VARIANTS[variant], "unknowns": n,
+                     "converged": failure is None and reason > 0,
+                     "reason": failure or int(reason),
+                     "steps": ksp.getIterationNumber(),
+                     "relative_difference": difference,
+                     "cpu_s": {"direct": direct_cpu, "setup": c1 - c0, "solve": c2 - c1}})
+        ksp.destroy()
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--state", nargs="+", choices=["rest", "flowing", "front"],
+                        default=["rest", "flowing", "front"])
+    parser.add_argument("--size", type=float, nargs="+", default=[0.04, 0.02])
+    parser.add_argument("--eps", type=float, default=1e-6)
+    parser.add_argument("--dt", type=float, default=1e-4)
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
+    parser.add_argument("--max-steps", type=int, default=400)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/three_d_krylov"))
+    args = parser.parse_args(argv)
+    PETSc = petsc()
+    if PETSc is None:
+        print("three_d_fieldsplit.py needs petsc4py (pip install petsc petsc4py); "
+              "it is not installed here", file=sys.stderr)
+        return 2
+    import ngsolve as ngs
+    ngs.SetNumThreads(1)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for size in args.size:
+        for state in args.state:
+            rows = measure(PETSc, state, size, args.eps, args.dt, args.variants,
+                           args.max_steps)
+            for row in rows:
+                print(json.dumps({k: row[k] for k in (
+                    "state", "unknowns", "variant", "converged", "reason", "steps",
+                    "relative_difference", "cpu_s")}), flush=True)
+            name = f"fieldsplit_{state}_h{size:g}.json"
+            (args.out / name).write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
