@@ -86,16 +86,18 @@ def configure(PETSc, ksp, variant: str, velocity, pressure, mass, steps: int) ->
     pc.setFieldSplitSchurPreType(pre, mass if kind["schur"] == "user" else None)
     options = PETSc.Options()
     prefix = ksp.getOptionsPrefix() or ""
+    lsc = kind["p"] == "lsc"
     for name, value in {"fieldsplit_u_ksp_type": "preonly", "fieldsplit_u_pc_type": kind["u"],
                         "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": kind["p"],
-                        "fieldsplit_p_lsc_ksp_type": "preonly",
-                        "fieldsplit_p_lsc_pc_type": "lu"}.items():
+                        **({"fieldsplit_p_lsc_ksp_type": "preonly",
+                            "fieldsplit_p_lsc_pc_type": "lu"} if lsc else {})}.items():
         options[prefix + name] = value
-    for factor in ("fieldsplit_u_", "fieldsplit_p_", "fieldsplit_p_lsc_"):
+    factors = [f"fieldsplit_{f}_" for f in ("u", "p") if kind[f] == "lu"]
+    for factor in factors + (["fieldsplit_p_lsc_"] if lsc else []):
         # PETSc's zero-pivot test is relative to the row's sum: the contrast of 1 / eps in
         # the weighted pressure blocks trips it, and LU needs no pivoting on these blocks
         options[prefix + factor + "pc_factor_zeropivot"] = 0.0
-    if kind["p"] == "lsc":
+    if lsc:
         options[prefix + "fieldsplit_p_pc_lsc_scale_diag"] = None
     ksp.setFromOptions()
 
