@@ -110,6 +110,12 @@ KRYLOV_EXACT_20 = "three_d_krylov/column_flowing_h0.02_dt0.0001_exactu_n1.json"
 KRYLOV_FLOWING_14 = "three_d_krylov/column_flowing_h0.014_dt0.0001_n1.json"
 KRYLOV_REST_04 = "three_d_krylov/column_rest_h0.04_dt0.0001_n1.json"
 KRYLOV_PLUG = "three_d_krylov/plug_flowing_dt0.025_n1.json"
+SPLIT_REST_14 = "three_d_krylov/fieldsplit_rest_h0.014.json"
+SPLIT_REST_10 = "three_d_krylov/fieldsplit_rest_h0.01.json"
+SPLIT_SIZES = {"lsc-lu": ("0.04", "0.02", "0.014"), "selfp-lu": ("0.04", "0.02", "0.014"),
+               "mass-lu": ("0.04", "0.02", "0.014"),
+               "lsc-gamg": ("0.04", "0.02", "0.014", "0.01"),
+               "selfp-gamg": ("0.04", "0.02", "0.014", "0.01")}
 PLANE_20 = "three_d_collapse/plane_strain_h0.02.json"
 PLANE_MU_20 = "three_d_collapse/plane_strain_h0.02_mu-i.json"
 PLANE_MU_14 = "three_d_collapse/plane_strain_h0.014_mu-i.json"
@@ -129,6 +135,12 @@ def _order(coarse: str, fine: Any, key: str) -> float:
         return abs(data[key])
     other = json.loads((RESULTS / coarse).read_text())
     return math.log(gap(other) / gap(fine)) / math.log(other["size"] / fine["size"])
+
+
+def _split_cpu(data: Any, variant: str) -> float:
+    """A fieldsplit variant's processor seconds, set-up and solve."""
+    cpu = next(r["cpu_s"] for r in data if r["variant"] == variant)
+    return cpu["setup"] + cpu["solve"]
 
 
 def _own(function: str) -> Callable[[Any], float]:
@@ -513,6 +525,21 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      "max:[schur=cahouet-chabard].gmres_steps", "d", 1),
     ("docs/three_d.md", "in residual ({} steps) leaves the velocity", KRYLOV_PLUG,
      "[eps=1e-06&schur=cahouet-chabard].gmres_steps", "d", 1),
+    # --- PETSc's fieldsplit (benchmarks/three_d_fieldsplit.py)
+    ("docs/three_d.md", "selfp with GAMG, takes {} steps at rest", SPLIT_REST_14,
+     "[variant=selfp-gamg].steps", "d", 1),
+    ("docs/three_d.md", "and {} at 37,274 (about", SPLIT_REST_10,
+     "[variant=selfp-gamg].steps", "d", 1),
+    ("docs/three_d.md", "and {} processor seconds against UMFPACK's", SPLIT_REST_14,
+     lambda d: _split_cpu(d, "selfp-gamg"), ".2f", 1),
+    ("docs/three_d.md", "UMFPACK's {} at 18,192", SPLIT_REST_14,
+     "[variant=selfp-gamg].cpu_s.direct", ".2f", 1),
+    ("docs/three_d.md", "18,192, {} against", SPLIT_REST_10,
+     lambda d: _split_cpu(d, "selfp-gamg"), ".2f", 1),
+    ("docs/three_d.md", "against {} at 37,274: on one", SPLIT_REST_10,
+     "[variant=selfp-gamg].cpu_s.direct", ".2f", 1),
+    ("docs/three_d.md", "sequential and slow (about {} s at 18,192", SPLIT_REST_14,
+     lambda d: _split_cpu(d, "lsc-lu"), ".0f", 1),
     ("docs/three_d.md", "The runouts differ by {} %", PLANE_14, "runout_relative", "+.2f",
      100),
     ("docs/three_d.md", "and {} mm apart behind the front's last mesh.size", PLANE_14,
@@ -1222,3 +1249,16 @@ def test_each_example_shows_its_figure() -> None:
         figure = f"img/examples/{script.stem}.png"
         assert f"examples/{script.name}" in page and figure in page, script.name
         assert (ROOT / "docs" / figure).is_file(), figure
+
+
+@pytest.mark.parametrize("state", ["rest", "flowing", "front"])
+def test_the_fieldsplit_table_is_its_results_files(state: str) -> None:
+    """docs/three_d.md's table of PETSc's fieldsplit steps, row by row."""
+    cells = []
+    for variant, sizes in SPLIT_SIZES.items():
+        steps = [next(r["steps"] for r in json.loads(
+            (RESULTS / f"three_d_krylov/fieldsplit_{state}_h{size}.json").read_text())
+            if r["variant"] == variant) for size in sizes]
+        cells.append(" / ".join(map(str, steps)))
+    row = f"| {state} | " + " | ".join(cells) + " |"
+    assert row in (ROOT / "docs" / "three_d.md").read_text(encoding="utf-8"), row
