@@ -4,6 +4,7 @@
 Run: python benchmarks/three_d_fieldsplit.py [--state rest flowing front] [--size 0.04 0.02]
          [--eps 1e-6] [--variants lsc-lu lsc-gamg selfp-lu selfp-gamg mass-lu]
          [--out benchmarks/results/three_d_krylov]
+     [mpiexec -n 2] python benchmarks/three_d_fieldsplit.py --ranks [--state ...] [--size ...]
 
 Needs petsc4py (PETSc built without external packages is enough); without it the script
 says so in one line and exits. One process. The system is ``three_d_krylov.py``'s: the
@@ -26,6 +27,15 @@ preconditioned by the Schur complement factorisation ``full`` with, by variant:
 Per case: converged or not, FGMRes steps, processor seconds of the set-up and the solve,
 the relative distance to the direct solution. Writes fieldsplit_<state>_h<size>.json under
 --out; the prediction is benchmarks/results/three_d_krylov/PREDICTION_fieldsplit.md.
+
+``--ranks``: ``selfp-gamg`` alone on the mesh distributed by NGSolve over the ranks of
+``mpiexec`` (rank 0 keeps no element, as in ``three_d_krylov.py``), the matrix and the
+vectors handed to PETSc by ngspetsc (``Matrix``, ``VectorMapping``: PETSc spreads the rows
+evenly over the ranks), against NGSolve's direct solve (``masterinverse`` on more than one
+rank, UMFPACK on one); the processor seconds of each rank and the floating-point
+operations PETSc counts on it in the set-up and the solve, the velocity's and the
+pressure's L2 norms (to compare one rank with two). Writes
+fieldsplit_ranks_<state>_h<size>_n<ranks>.json.
 """
 
 from __future__ import annotations
@@ -185,6 +195,84 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
     return rows
 
 
+def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
+                  steps: int, comm) -> dict:
+    """selfp + GAMG on the system distributed by NGSolve over the ranks of ``comm`` (None:
+    one process), handed to PETSc by ngspetsc (a MATIS of the ranks' local matrices on the
+    free dofs' global numbering, converted to MPIAIJ), against NGSolve's direct solve."""
+    import ngsolve as ngs
+    import numpy as np
+    from ngsPETSc import Matrix, VectorMapping
+    from three_d_krylov import FRONT, system
+
+    ranks = 1 if comm is None else comm.size
+    solver, slump, hydrostatic = system("column", eps, size, comm)
+    space = solver.space
+    velocity, pressure = solver.solution.components
+    pressure.Set(hydrostatic)
+    share = {"flowing": ngs.CF(1.0), "rest": ngs.CF(0.0),
+             "front": ngs.IfPos(ngs.x - FRONT, ((ngs.x - FRONT) / FRONT) ** 2, 0.0)}
+    velocity.Set(slump * share[state])
+    solver.previous.vec.data = solver.solution.vec
+    solver.scheme.begin_step(dt)
+    picard = solver.nonlinear.picard_system
+    picard.prepare()
+    matrix = picard.assemble()
+    rhs = picard.f.vec
+    c0 = time.process_time()
+    exact = rhs.CreateVector()
+    exact.data = matrix.Inverse(space.FreeDofs(),
+                                inverse="masterinverse" if ranks > 1 else "umfpack") * rhs
+    direct_cpu = time.process_time() - c0
+
+    c0 = time.process_time()
+    dofs = (space.ParallelDofs(), space.FreeDofs(), {"bsize": [1]})
+    a = Matrix(matrix, dofs).mat
+    mapping = VectorMapping(dofs)
+    # each global row's field: +1 velocity, -1 pressure, summed over the ranks sharing it
+    field = rhs.CreateVector()
+    field.FV().NumPy()[:] = np.where(np.arange(len(field)) < space.Range(0).stop, 1.0, -1.0)
+    sign = mapping.petscVec(field)
+    start = sign.getOwnershipRange()[0]
+    owned = start + np.arange(sign.getLocalSize(), dtype=PETSc.IntType)
+    is_u = PETSc.IS().createGeneral(owned[sign.getArray() > 0], comm=a.getComm())
+    is_p = PETSc.IS().createGeneral(owned[sign.getArray() < 0], comm=a.getComm())
+    b = mapping.petscVec(rhs)
+    convert_cpu = time.process_time() - c0
+    ksp = PETSc.KSP().create(comm=a.getComm())
+    ksp.setOptionsPrefix("ranks_selfp_gamg_")
+    ksp.setOperators(a)
+    configure(PETSc, ksp, "selfp-gamg", is_u, is_p, None, steps)
+    x = b.duplicate()
+    x.set(0.0)
+    f0, c0 = PETSc.Log.getFlops(), time.process_time()
+    ksp.setUp()
+    c1 = time.process_time()
+    ksp.solve(b, x)
+    c2, flops = time.process_time(), PETSc.Log.getFlops() - f0
+    reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
+    out = mapping.ngsVec(x, rhs.CreateVector())
+    difference = rhs.CreateVector()
+    difference.data = out - exact
+    distance = ngs.Norm(difference) / ngs.Norm(exact)
+    solution = ngs.GridFunction(space)
+    solution.vec.data = out
+    u, p = solution.components
+    norms = [float(np.sqrt(ngs.Integrate(f * f, space.mesh))) for f in (u, p)]
+    cpu = {"direct": direct_cpu, "convert": convert_cpu, "setup": c1 - c0, "solve": c2 - c1}
+    per_rank = [cpu] if comm is None else comm.allgather(cpu)
+    flops_per_rank = [flops] if comm is None else comm.allgather(flops)
+    ksp.destroy()
+    return {"case": "column", "state": state, "size": size, "eps": eps, "dt": dt,
+            "variant": "selfp-gamg", **VARIANTS["selfp-gamg"], "ranks": ranks,
+            "unknowns": space.ndofglobal, "free_unknowns": a.getSize()[0],
+            "rows_per_rank": [] if comm is None else comm.allgather(a.getLocalSize()[0]),
+            "converged": reason > 0, "reason": reason, "steps": iterations,
+            "relative_difference": distance,
+            "velocity_l2": norms[0], "pressure_l2": norms[1],
+            "cpu_s_per_rank": per_rank, "petsc_flops_per_rank": flops_per_rank}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--state", nargs="+", choices=["rest", "flowing", "front"],
@@ -195,6 +283,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
     parser.add_argument("--max-steps", type=int, default=400)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/three_d_krylov"))
+    parser.add_argument("--ranks", action="store_true",
+                        help="selfp + GAMG on NGSolve's distributed system, through ngspetsc "
+                             "(run under mpiexec; on one process: the reference)")
     args = parser.parse_args(argv)
     PETSc = petsc()
     if PETSc is None:
@@ -204,6 +295,8 @@ def main(argv: list[str] | None = None) -> int:
     import ngsolve as ngs
     ngs.SetNumThreads(1)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.ranks:
+        return ranks_mode(PETSc, args)
     for size in args.size:
         for state in args.state:
             rows = measure(PETSc, state, size, args.eps, args.dt, args.variants,
@@ -214,6 +307,24 @@ def main(argv: list[str] | None = None) -> int:
                     "relative_difference", "relative_residual", "cpu_s")}), flush=True)
             name = f"fieldsplit_{state}_h{size:g}.json"
             (args.out / name).write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+def ranks_mode(PETSc, args: argparse.Namespace) -> int:
+    """``--ranks``: one record per size and state, written by rank 0."""
+    from three_d_krylov import world
+
+    comm = world()
+    for size in args.size:
+        for state in args.state:
+            row = measure_ranks(PETSc, state, size, args.eps, args.dt, args.max_steps, comm)
+            if comm is None or comm.rank == 0:
+                print(json.dumps({k: row[k] for k in (
+                    "state", "ranks", "free_unknowns", "converged", "steps",
+                    "relative_difference", "velocity_l2", "cpu_s_per_rank")}), flush=True)
+                name = f"fieldsplit_ranks_{state}_h{size:g}_n{row['ranks']}.json"
+                (args.out / name).write_text(json.dumps(row, indent=1) + "\n",
+                                             encoding="utf-8")
     return 0
 
 
