@@ -314,6 +314,12 @@ def ranks_mode(PETSc, args: argparse.Namespace) -> int:
     """``--ranks``: one record per size and state, written by rank 0."""
     from three_d_krylov import world
 
+    try:
+        import ngsPETSc  # noqa: F401
+    except ImportError:
+        print("three_d_fieldsplit.py --ranks needs ngspetsc (pip install ngspetsc); "
+              "it is not installed here", file=sys.stderr)
+        return 2
     comm = world()
     for size in args.size:
         for state in args.state:
