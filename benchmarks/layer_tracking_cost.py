@@ -21,28 +21,17 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import shapely
 from common.results import write_results
+from common.timing import processor_ms
 
 from granflow.config import load_config
 from granflow.fem.sampling import values_at
 from granflow.scenarios.column import build_column
 from granflow.scenarios.column_layer import _column_front
-
-
-def cost(f: Callable[[], object], repeat: int) -> float:
-    """Processor time of one call (ms), median of ``repeat``."""
-    times = []
-    for _ in range(repeat):
-        start = time.process_time()
-        f()
-        times.append(time.process_time() - start)
-    return 1e3 * float(np.median(times))
 
 
 def whole_domain_front(domain: shapely.Geometry, region: shapely.Geometry,
@@ -86,12 +75,13 @@ def main(argv: list[str]) -> None:
     domain, region, thin = layer.domain(), mat.region(), 0.1 * mat.thickness
     front = layer.measures()["column_front_x"]
     rows = {
-        "velocity at the line and markers": (cost(searched, args.repeat),
-                                             cost(walked, args.repeat)),
-        "column front": (cost(lambda: whole_domain_front(domain, region, thin), args.repeat),
-                         cost(lambda: _column_front(domain, region, thin, front),
-                              args.repeat)),
-        "domain": (cost(polygonised, args.repeat), cost(layer.domain, args.repeat)),
+        "velocity at the line and markers": (processor_ms(searched, args.repeat),
+                                             processor_ms(walked, args.repeat)),
+        "column front": (processor_ms(lambda: whole_domain_front(domain, region, thin),
+                                      args.repeat),
+                         processor_ms(lambda: _column_front(domain, region, thin, front),
+                                      args.repeat)),
+        "domain": (processor_ms(polygonised, args.repeat), processor_ms(layer.domain, args.repeat)),
     }
     checks = {
         "velocity_max_difference": float(np.abs(walked() - searched()).max()),
@@ -100,8 +90,8 @@ def main(argv: list[str]) -> None:
         "domain_symmetric_difference_m2": float(
             shapely.symmetric_difference(domain, polygonised()).area),
     }
-    now = {"measures (all of a step's)": cost(layer.measures, args.repeat),
-           "a whole step of the tracking": cost(lambda: layer(problem.simulation), 1)}
+    now = {"measures (all of a step's)": processor_ms(layer.measures, args.repeat),
+           "a whole step of the tracking": processor_ms(lambda: layer(problem.simulation), 1)}
     lines = [f"trapezoid-erodible at t = {args.at} s: {mesh.ne} triangles, "
              f"{len(mat.line)} line points, {len(mat.markers)} markers", "",
              "| part of a step | NGSolve's search, whole domain (ms) | walk, window (ms) |",

@@ -19,27 +19,15 @@ from __future__ import annotations
 import argparse
 import copy
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
 from common.results import read_results, write_json, write_markdown
+from common.timing import processor_ms
 
 from granflow.config import load_config
 from granflow.scenarios.column import build_column
 
 PARTS = ("sample", "measures", "advance")
-
-
-def cost(f: Callable[[], object], repeat: int) -> float:
-    """Processor time of one call (ms), median of ``repeat``."""
-    times = []
-    for _ in range(repeat):
-        start = time.process_time()
-        f()
-        times.append(time.process_time() - start)
-    return 1e3 * float(np.median(times))
 
 
 def parts_at(at: float, repeat: int) -> dict:
@@ -52,9 +40,11 @@ def parts_at(at: float, repeat: int) -> dict:
     layer.measures()                      # the column front's window, as after a step
     mat, dt = layer.material, problem.simulation.dt
     lines, markers = layer.line_velocity, layer.marker_velocity
-    costs = {"sample": cost(layer.sample, repeat), "measures": cost(layer.measures, repeat),
-             "advance": cost(lambda: copy.deepcopy(mat).advance(lines, markers, dt), repeat)
-             - cost(lambda: copy.deepcopy(mat), repeat)}
+    costs = {"sample": processor_ms(layer.sample, repeat),
+             "measures": processor_ms(layer.measures, repeat),
+             "advance": processor_ms(lambda: copy.deepcopy(mat).advance(lines, markers, dt),
+                                     repeat)
+             - processor_ms(lambda: copy.deepcopy(mat), repeat)}
     return {"t": problem.simulation.t, "triangles": problem.mesh.ne,
             "line_points": len(mat.line), "markers": len(mat.markers), "costs_ms": costs,
             "step_ms": sum(costs.values())}

@@ -112,18 +112,14 @@ def configure(PETSc, ksp, variant: str, velocity, pressure, mass, steps: int) ->
     ksp.setFromOptions()
 
 
-def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: list[str],
-            steps: int) -> list[dict]:
+def picard_system(state: str, size: float, eps: float, dt: float, comm):
+    """The column's first Picard system (3.2) at ``state`` (rest, flowing or front: the
+    velocity three_d_krylov.py sets), assembled on ``comm``'s ranks (None: one process):
+    the solver, its matrix and its right-hand side."""
     import ngsolve as ngs
-    import numpy as np
-    from common.block_preconditioner import pressure_forms
     from three_d_krylov import FRONT, system
 
-    from granflow.fem.forms import ViscoplasticStress
-    from granflow.fem.measure import SPACE
-
-    solver, slump, hydrostatic = system("column", eps, size, None)
-    space = solver.space
+    solver, slump, hydrostatic = system("column", eps, size, comm)
     velocity, pressure = solver.solution.components
     pressure.Set(hydrostatic)
     share = {"flowing": ngs.CF(1.0), "rest": ngs.CF(0.0),
@@ -133,8 +129,19 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
     solver.scheme.begin_step(dt)
     picard = solver.nonlinear.picard_system
     picard.prepare()
-    matrix = picard.assemble()
-    rhs = picard.f.vec
+    return solver, picard.assemble(), picard.f.vec
+
+
+def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: list[str],
+            steps: int) -> list[dict]:
+    import numpy as np
+    from common.block_preconditioner import pressure_forms
+
+    from granflow.fem.forms import ViscoplasticStress
+    from granflow.fem.measure import SPACE
+
+    solver, matrix, rhs = picard_system(state, size, eps, dt, None)
+    space = solver.space
     free = np.array(list(space.FreeDofs()), dtype=bool)
     c0 = time.process_time()
     exact = rhs.CreateVector()
@@ -203,22 +210,10 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     import ngsolve as ngs
     import numpy as np
     from ngsPETSc import Matrix, VectorMapping
-    from three_d_krylov import FRONT, system
 
     ranks = 1 if comm is None else comm.size
-    solver, slump, hydrostatic = system("column", eps, size, comm)
+    solver, matrix, rhs = picard_system(state, size, eps, dt, comm)
     space = solver.space
-    velocity, pressure = solver.solution.components
-    pressure.Set(hydrostatic)
-    share = {"flowing": ngs.CF(1.0), "rest": ngs.CF(0.0),
-             "front": ngs.IfPos(ngs.x - FRONT, ((ngs.x - FRONT) / FRONT) ** 2, 0.0)}
-    velocity.Set(slump * share[state])
-    solver.previous.vec.data = solver.solution.vec
-    solver.scheme.begin_step(dt)
-    picard = solver.nonlinear.picard_system
-    picard.prepare()
-    matrix = picard.assemble()
-    rhs = picard.f.vec
     c0 = time.process_time()
     exact = rhs.CreateVector()
     exact.data = matrix.Inverse(space.FreeDofs(),
