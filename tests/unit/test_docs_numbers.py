@@ -216,6 +216,17 @@ def _against_paper_model(name: str) -> Callable[[Any], float]:
     return relative
 
 
+def _spreading_cut(shape: str, length: float) -> Callable[[Any], float]:
+    """The share of the no-slip run's spreading beyond the initial length ``length`` (m)
+    that the 10 cm channel's walls take, eta = 0.01."""
+    def cut(data: Any) -> float:
+        runs = data["flat"]
+        free = runs[f"{shape}-glass-beads-no-slip-eta0.01"]["runout_m"] - length
+        walls = runs[f"{shape}-glass-beads-no-slip-eta0.01-walls0.1"]["runout_m"] - length
+        return 1 - walls / free
+    return cut
+
+
 def _largest_surface_gap(data: Any) -> float:
     """The largest distance (m) between two checkouts' free surfaces, any run, any time."""
     return max(gap["max_m"] for run in data.values() for gap in run["free_surfaces"].values())
@@ -1022,6 +1033,55 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _against_paper_model("trapezoid-glass-beads-material-eta0.01"), ".1f", 100),
     ("docs/erosion.md", "+27.0 %, at rest at {} s", BED_MODELS,
      _flat("trapezoid-glass-beads-material-eta0.01", "stop_time_s"), ".3f", 1),
+    # --- the level collapses with eta = 0.01 in the 10 cm channel (--channel-width 0.1)
+    ("docs/erosion.md", "| no-slip | {} m, +6.2 %, at rest at 1.036 s", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.4514 m, +{} %, at rest at 1.036 s", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+6.2 %, at rest at {} s", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "1.036 s | {} m, +5.6 %", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.7018 m, +{} %, at rest at 1.841 s", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+5.6 %, at rest at {} s", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| material | {} m, +17.8 %", BED_MODELS,
+     _flat("rectangle-glass-beads-material-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.5009 m, +{} %, at rest at 1.002 s", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+17.8 %, at rest at {} s", BED_MODELS,
+     _flat("rectangle-glass-beads-material-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "1.002 s | {} m, +12.2 %", BED_MODELS,
+     _flat("trapezoid-glass-beads-material-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.7458 m, +{} %, at rest at 1.480 s", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+12.2 %, at rest at {} s", BED_MODELS,
+     _flat("trapezoid-glass-beads-material-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "now {} and 6.2 mm from the paper model's", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "now 5.1 and {} mm from the paper model's", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "against {} and 21.8 mm without walls", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "against 10.1 and {} mm without walls", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "by {} % (rectangle) and", BED_MODELS,
+     _spreading_cut("rectangle", 0.20), ".1f", 100),
+    ("docs/erosion.md", "and {} % (trapezoid) on the no-slip bed", BED_MODELS,
+     _spreading_cut("trapezoid", 0.297), ".1f", 100),
+    ("docs/erosion.md", "(the no-slip trapezoid's at {} s, against", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "front_stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "s, against {} s without)", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01", "front_stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "comes to rest {} s later than without walls", BED_MODELS,
+     lambda d: (d["flat"]["trapezoid-glass-beads-no-slip-eta0.01-walls0.1"]["stop_time_s"]
+                - d["flat"]["trapezoid-glass-beads-no-slip-eta0.01"]["stop_time_s"]),
+     ".2f", 1),
 ]
 
 
