@@ -227,6 +227,15 @@ def _spreading_cut(shape: str, length: float) -> Callable[[Any], float]:
     return cut
 
 
+def _walls_cut(scenario: str, length: float) -> Callable[[Any], float]:
+    """The share of the paper's model's spreading beyond ``length`` (m) that the 10 cm
+    channel's walls take (benchmarks/side_walls.py)."""
+    def cut(data: Any) -> float:
+        runs = {r["case"]: r["runout_m"] for r in data if r["scenario"] == scenario}
+        return 1 - (runs["side walls"] - length) / (runs["no side walls"] - length)
+    return cut
+
+
 def _largest_surface_gap(data: Any) -> float:
     """The largest distance (m) between two checkouts' free surfaces, any run, any time."""
     return max(gap["max_m"] for run in data.values() for gap in run["free_surfaces"].values())
@@ -1074,6 +1083,14 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _spreading_cut("rectangle", 0.20), ".1f", 100),
     ("docs/erosion.md", "and {} % (trapezoid) on the no-slip bed", BED_MODELS,
      _spreading_cut("trapezoid", 0.297), ".1f", 100),
+    ("docs/erosion.md", "Without walls it ran +{} % and +20.2 %", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01"), ".1f", 100),
+    ("docs/erosion.md", "Without walls it ran +12.8 % and +{} %", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01"), ".1f", 100),
+    ("docs/erosion.md", "the paper's model they cut it by {} % and", "side_walls/side_walls.json",
+     _walls_cut("rectangle-rigid", 0.20), ".1f", 100),
+    ("docs/erosion.md", "% and {} % ([side walls]", "side_walls/side_walls.json",
+     _walls_cut("trapezoid-rigid", 0.297), ".1f", 100),
     ("docs/erosion.md", "(the no-slip trapezoid's at {} s, against", BED_MODELS,
      _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "front_stop_time_s"), ".3f", 1),
     ("docs/erosion.md", "s, against {} s without)", BED_MODELS,
