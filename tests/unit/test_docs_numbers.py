@@ -185,6 +185,39 @@ def _study_gain(he: str, slope: int, t: str) -> Callable[[Any], float]:
                          - data[f"{ETA_VARIANT}-0mm-{slope}"]["front_history"][t])
 
 
+WALLS_STUDY = "erosion_slopes_walls/erosion_slopes.json"
+WALLS_VARIANT = "glass-beads-no-slip-small-eta-walls/rectangle"
+NO_WALLS = json.loads((RESULTS / ETA_STUDY).read_text())
+
+
+def _walls(he: str, slope: int, key: str) -> Callable[[Any], float]:
+    """A row of the study in the 10 cm channel (he in mm, "0" rigid)."""
+    return lambda data: data[f"{WALLS_VARIANT}-{he}mm-{slope}"][key]
+
+
+def _walls_gain(slope: int, t: str | None, rows: str = "walls") -> Callable[[Any], float]:
+    """The 5 mm row's front minus its rigid twin's at ``t`` (at rest: None), in mm, of the
+    study in the channel or (``rows`` = "none") of the one without walls."""
+    def gain(data: Any) -> float:
+        data, variant = (data, WALLS_VARIANT) if rows == "walls" else (NO_WALLS, ETA_VARIANT)
+        layer, rigid = (data[f"{variant}-{he}mm-{slope}"] for he in ("5", "0"))
+        if t is None:
+            return 1e3 * (layer["runout_m"] - rigid["runout_m"])
+        return 1e3 * (layer["front_history"][t] - rigid["front_history"][t])
+    return gain
+
+
+def _walls_ratio(data: Any) -> float:
+    """The level row's runout over its rigid twin's, in the channel."""
+    return data[f"{WALLS_VARIANT}-5mm-0"]["runout_m"] / data[f"{WALLS_VARIANT}-0mm-0"]["runout_m"]
+
+
+def _beyond_footprint(slope: int) -> Callable[[Any], float]:
+    """The share of the displaced layer that started beyond the column's footprint."""
+    return lambda data: 1 - data[f"{WALLS_VARIANT}-5mm-{slope}"][
+        "displaced_from_under_column_share"]
+
+
 PACKED_LAYERS = [f"{law}/{bed}+small-eta+{packing}-layer"
                  for law in ("drucker-prager", "glass-beads", "hysteretic", "nonlocal")
                  for bed in ("no-slip", "material-bed") for packing in ("loose", "dense")]
@@ -1042,6 +1075,67 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _against_paper_model("trapezoid-glass-beads-material-eta0.01"), ".1f", 100),
     ("docs/erosion.md", "+27.0 %, at rest at {} s", BED_MODELS,
      _flat("trapezoid-glass-beads-material-eta0.01", "stop_time_s"), ".3f", 1),
+    # --- the slopes in the 10 cm channel (erosion_slopes.py, variant ...-walls)
+    ("docs/erosion.md", "The 19° layer row was stopped at {} s so that", WALLS_STUDY,
+     _walls("5", 19, "t_final"), ".3f", 1),
+    ("docs/erosion.md", "| rigid bed | {} m, at rest at 1.043 s |", WALLS_STUDY,
+     _walls("0", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "| rigid bed | 0.4526 m, at rest at {} s |", WALLS_STUDY,
+     _walls("0", 0, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| front {} m at 3 s, still creeping |", WALLS_STUDY,
+     _walls("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "| 5 mm layer | {} m, at rest at 0.984 s", WALLS_STUDY,
+     _walls("5", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.4741 m, at rest at {} s: ratio 1.05", WALLS_STUDY,
+     _walls("5", 0, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "at rest at 0.984 s: ratio {} |", WALLS_STUDY,
+     _walls_ratio,
+     ".2f", 1),
+    ("docs/erosion.md", "| stopped by hand at {} s |", WALLS_STUDY,
+     _walls("5", 19, "t_final"), ".3f", 1),
+    ("docs/erosion.md", "the walls take {} % off the rigid", WALLS_STUDY,
+     lambda d: 1 - d[f"{WALLS_VARIANT}-0mm-0"]["runout_m"]
+     / NO_WALLS[f"{ETA_VARIANT}-0mm-0"]["runout_m"], ".1f", 100),
+    ("docs/erosion.md", "runout ({} m without them)", ETA_STUDY,
+     _study("0", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "the front is at {} m at 3 s, against", WALLS_STUDY,
+     _walls("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "against {} m without walls; it moved", ETA_STUDY,
+     _study("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "it moved {} mm in its last half second", WALLS_STUDY,
+     lambda d: 1e3 * (d[f"{WALLS_VARIANT}-0mm-19"]["front_history"]["3"]
+                      - d[f"{WALLS_VARIANT}-0mm-19"]["front_history"]["2.5"]), ".1f", 1),
+    ("docs/erosion.md", "within the predicted 1.01–1.05** ({})", WALLS_STUDY,
+     _walls_ratio,
+     ".3f", 1),
+    ("docs/erosion.md", "+{} mm at rest, against +20 mm without", WALLS_STUDY,
+     _walls_gain(0, None), ".0f", 1),
+    ("docs/erosion.md", "against +{} mm without walls. The walls shorten", WALLS_STUDY,
+     _walls_gain(0, None, "none"), ".0f", 1),
+    ("docs/erosion.md", "(+{} mm at 0.3 s, predicted +5", WALLS_STUDY,
+     _walls_gain(0, "0.3"), ".0f", 1),
+    ("docs/erosion.md", "At 19° it is +{} mm at 0.3 s", WALLS_STUDY,
+     _walls_gain(19, "0.3"), ".0f", 1),
+    ("docs/erosion.md", "and {}–97 % of it started beyond", WALLS_STUDY,
+     _beyond_footprint(0), ".0f", 100),
+    ("docs/erosion.md", "and 96–{} % of it started beyond", WALLS_STUDY,
+     _beyond_footprint(19), ".0f", 100),
+    ("docs/erosion.md", "The median advance is {} cm at 0°", WALLS_STUDY,
+     _walls("5", 0, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "and {} cm at 19° when that row stopped", WALLS_STUDY,
+     _walls("5", 19, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "(+6.2 and +{} %, within the 10 % rule)", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +{} / +5.6 %, material +17.8", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +6.2 / +{} %, material +17.8", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +6.2 / +5.6 %, material +{} / +12.2 %", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "material +17.8 / +{} % | the no-slip bed passes", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "(the layer row stopped at {} s)", WALLS_STUDY,
+     _walls("5", 19, "t_final"), ".3f", 1),
     # --- the level collapses with eta = 0.01 in the 10 cm channel (--channel-width 0.1)
     ("docs/erosion.md", "| no-slip | {} m, +6.2 %, at rest at 1.036 s", BED_MODELS,
      _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
