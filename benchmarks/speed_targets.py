@@ -3,6 +3,7 @@ a whole ``granflow run`` process, side by side, on a quiet machine and beside a 
 
 Run: python benchmarks/speed.py --targets [--pairs trapezoid cylinder slope22]
          [--repeat 3] [--conditions quiet busy] [--baseline-src PATH]
+         [--baseline-scenario trapezoid-rigid]
          [--src PATH --tag NAME] [--out benchmarks/results/speed_targets]
 
 Every run is ``granflow run SCENARIO --quiet`` in a new process (start-up, figures and
@@ -26,7 +27,8 @@ the table says how loaded it was, and the targets are judged on the quiet wall t
   with granflow's defaults for the mesh and the tension (the study's rows pinned the
   uniform mesh of their time);
 * baseline (with ``--baseline-src``, the ``src`` folder of a checkout of an earlier
-  commit): ``trapezoid-rigid`` run by that code (``PYTHONPATH``) against this one.
+  commit): ``trapezoid-rigid`` (or ``--baseline-scenario``) run by that code
+  (``PYTHONPATH``) against this one.
 
 The targets (``TARGETS``, wall time on a quiet machine): each erodible run at most 2.5 times
 its rigid twin, the 22-degree erodible row in at most 300 s. ``--src PATH --tag NAME`` runs
@@ -202,6 +204,8 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--baseline-src", type=Path,
                         help="src folder of an earlier granflow checkout: time its default "
                              "collapse against this one's")
+    parser.add_argument("--baseline-scenario", default="trapezoid-rigid",
+                        help="the scenario the baseline times with both codes")
     parser.add_argument("--src", type=Path,
                         help="src folder of an earlier checkout: run the pairs with its code")
     parser.add_argument("--tag", default="",
@@ -215,8 +219,8 @@ def main(argv: list[str]) -> None:
     cases = {prefix + name: ((*PAIRS[name][0], src), (*PAIRS[name][1], src))
              for name in args.pairs}
     if args.baseline_src is not None:
-        cases["baseline"] = (("trapezoid-rigid", [], args.baseline_src.resolve()),
-                             ("trapezoid-rigid", [], None))
+        cases["baseline"] = ((args.baseline_scenario, [], args.baseline_src.resolve()),
+                             (args.baseline_scenario, [], None))
     for name, (first, second) in cases.items():
         results[name] = compare(name, first, second, args.repeat, args.conditions,
                                 args.out / "runs")

@@ -4,6 +4,7 @@ column between frictionless walls against the 2D plane-strain run.
 
 Run: python benchmarks/three_d_collapse.py rest [--size 0.04] [--ranks 1]
      python benchmarks/three_d_collapse.py plane-strain [--size 0.03] [--t-end 0.2]
+         [--scenario rectangle-rigid|trapezoid-rigid] [--rheology drucker-prager|mu-i]
      python benchmarks/three_d_collapse.py channel [--size 0.04] [--slope 0] [--reuse]
          [--out benchmarks/results/three_d_collapse]
 
@@ -17,7 +18,9 @@ summary's figures, processor seconds, peak memory and the profile.
 ``plane-strain``: the same rectangle in 2D and in 3D between two frictionless planes one
 mesh.size apart (``boundary.channel_width = none``), both to t_end with outputs at t_end/2
 and t_end: the runouts and the distances between the centre-line surfaces (the mean and
-the largest of the symmetric point-to-polyline distances, ``io/profiles.py``).
+the largest of the symmetric point-to-polyline distances, ``io/profiles.py``). With
+``--scenario trapezoid-rigid`` or ``--rheology mu-i`` the other column or law, at two
+mesh sizes a convergence check of the gap to plane strain.
 
 ``channel``: the 3D run to rest in half the 10 cm channel (the side walls' Coulomb friction
 10.2 deg, the glass beads' on glass) against the 2D run with the side walls' depth-averaged
@@ -37,6 +40,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import json
+import os
 import pstats
 import resource
 import subprocess
@@ -63,6 +67,7 @@ def _cpu(who: int) -> tuple[float, float]:
 def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, Any]:
     sets = [*(CHANNEL[1:] if two_d else CHANNEL), f"mesh.size={size!r}"]
     folder = out / (f"run2d_h{size:g}" if two_d else f"run_h{size:g}_n{ranks}")
+    load, wall = os.getloadavg(), time.perf_counter()
     if ranks == 1:
         profiler = cProfile.Profile(time.process_time)   # processor, not wall, seconds
         cpu0, _ = _cpu(resource.RUSAGE_SELF)
@@ -84,6 +89,8 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, A
         subprocess.run(args, check=True)
         cpu1, peak = _cpu(resource.RUSAGE_CHILDREN)
         result, top = Run(folder), []
+    wall = time.perf_counter() - wall
+    load = [round(a, 2) for a in (*load, *os.getloadavg())]   # 1, 5, 15 min: before, after
     s = result.summary
     figures = {key: getattr(s, key, None) for key in (
         "status", "message", "steps", "rejected_steps", "nonlinear_iterations", "n_dofs",
@@ -93,8 +100,8 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, A
     figures |= {key: raw.get(key) for key in ("runout_wall_m", "runout_centre_m",
                                               "wall_height_m", "remeshes",
                                               "min_tetrahedron_quality")}
-    return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "peak_mb": peak,
-            **figures, "profile": top}
+    return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "wall_s": wall,
+            "load_average": load, "peak_mb": peak, **figures, "profile": top}
 
 
 def behind_front(plane: Run, slab: Run, t: float, size: float) -> float:
@@ -107,20 +114,33 @@ def behind_front(plane: Run, slab: Run, t: float, size: float) -> float:
                      point_to_polyline(b[b[:, 0] <= end], a).max()))
 
 
-def plane_strain(size: float, t_end: float, out: Path, reuse: bool) -> dict[str, Any]:
+def plane_strain_name(size: float, scenario: str, rheology: str) -> str:
+    """``h0.02``, with ``_trapezoid`` and ``_mu-i`` for the other column and law."""
+    return (f"h{size:g}" + ("_trapezoid" if scenario == "trapezoid-rigid" else "")
+            + ("" if rheology == "drucker-prager" else f"_{rheology}"))
+
+
+def plane_strain(size: float, t_end: float, out: Path, reuse: bool,
+                 scenario: str = "rectangle-rigid", rheology: str = "drucker-prager"
+                 ) -> dict[str, Any]:
     times = [t_end / 2, t_end]
     sets = [f"mesh.size={size!r}", f"time.t_end={t_end!r}", f"time.output_times={times}",
-            "time.stop_at_rest=false"]
-    folders = (out / f"plane_h{size:g}", out / f"slab_h{size:g}")
+            "time.stop_at_rest=false", f"material.rheology={rheology}"]
+    name = plane_strain_name(size, scenario, rheology)
+    folders = (out / f"plane_{name}", out / f"slab_{name}")
+    cpu = None
     if reuse and all((f / "summary.json").exists() for f in folders):
         plane, slab = (Run(f) for f in folders)
     else:
-        plane = run("rectangle-rigid", sets, out=folders[0], force=True, progress=False)
-        slab = run("rectangle-rigid", [*sets, "geometry.dimension=3",
-                                       "boundary.channel_width=none"],
+        cpu0, _ = _cpu(resource.RUSAGE_SELF)
+        plane = run(scenario, sets, out=folders[0], force=True, progress=False)
+        cpu1, _ = _cpu(resource.RUSAGE_SELF)
+        slab = run(scenario, [*sets, "geometry.dimension=3", "boundary.channel_width=none"],
                    out=folders[1], force=True, progress=False)
+        cpu = {"2d": cpu1 - cpu0, "3d": _cpu(resource.RUSAGE_SELF)[0] - cpu1}
     gaps = surface_distances(plane.root, slab.root, times=times)
-    return {"size": size, "t_end": t_end, "runout_2d_m": plane.summary.runout_m,
+    return {"size": size, "t_end": t_end, "scenario": scenario, "rheology": rheology,
+            "cpu_s": cpu, "runout_2d_m": plane.summary.runout_m,
             "runout_3d_m": slab.summary.runout_m,
             "runout_relative": slab.summary.runout_m / plane.summary.runout_m - 1.0,
             "surface_distance_mean_m": {f"{t:g}": gaps[t][0] for t in gaps},
@@ -232,6 +252,11 @@ def main(argv: list[str] | None = None) -> int:
                         help="rest: the 2D run with the depth-averaged side walls instead")
     parser.add_argument("--reuse", action="store_true",
                         help="plane-strain, channel: measure the runs already in --out/runs")
+    parser.add_argument("--scenario", default="rectangle-rigid",
+                        choices=("rectangle-rigid", "trapezoid-rigid"),
+                        help="plane-strain: the column")
+    parser.add_argument("--rheology", default="drucker-prager",
+                        choices=("drucker-prager", "mu-i"), help="plane-strain: the law")
     parser.add_argument("--out", type=Path,
                         default=Path("benchmarks/results/three_d_collapse"))
     args = parser.parse_args(argv)
@@ -259,8 +284,8 @@ def main(argv: list[str] | None = None) -> int:
                   f"{100 * gap['between_share']:.0f} %")
     else:
         size = args.size or 0.03
-        data = plane_strain(size, args.t_end, runs, args.reuse)
-        name = f"plane_strain_h{size:g}.json"
+        data = plane_strain(size, args.t_end, runs, args.reuse, args.scenario, args.rheology)
+        name = f"plane_strain_{plane_strain_name(size, args.scenario, args.rheology)}.json"
         print(f"runout 2D {data['runout_2d_m']:.4f} m, 3D {data['runout_3d_m']:.4f} m "
               f"({100 * data['runout_relative']:+.2f} %), surfaces at most "
               f"{data['surface_distance_max_m']} m apart")

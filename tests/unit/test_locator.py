@@ -7,8 +7,9 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 from netgen.geom2d import SplineGeometry
+from scipy.spatial import cKDTree
 
-from granflow.fem.locator import PointLocator, neighbours
+from granflow.fem.locator import PointLocator, _barycentric, _lowest, nearest, neighbours
 from granflow.fem.sampling import triangles, values_at
 
 
@@ -77,3 +78,45 @@ def test_points_on_the_boundary_of_a_concave_mesh_are_inside() -> None:
     u.Set(ngs.x * ngs.x + ngs.y)
     assert locator.values(u, middle)[:, 0] == pytest.approx(
         middle[:, 0] ** 2 + middle[:, 1], abs=1e-3)
+
+
+def test_walk_coordinates_are_the_barycentric_ones_bit_for_bit() -> None:
+    """The walk's flat per-triangle terms give ``_barycentric``'s numbers exactly, and the
+    coordinate it steps across is argmin's (the first of equals; a NaN first)."""
+    mesh = _l_shaped_mesh()
+    rng = np.random.default_rng(5)
+    points = 1.1 * rng.random((2000, 2)) - 0.05
+    locator = PointLocator(mesh)
+    element, lam = locator.locate(points)
+    inside = element >= 0
+    corners = mesh.ngmesh.Coordinates()[locator.tri]
+    exact = _barycentric(corners[element[inside]], points[inside])
+    assert np.array_equal(lam[inside], exact[:, :2])
+    a = np.array([0.2, 0.1, 0.1, np.nan, 0.3, 0.0])
+    b = np.array([0.1, 0.1, 0.3, 0.2, np.nan, 0.0])
+    c = np.array([0.1, 0.3, 0.1, 0.1, 0.1, 0.0])
+    lowest, corner = _lowest(a, b, c)
+    stacked = np.stack([a, b, c], axis=1)
+    assert np.array_equal(corner, np.argmin(stacked, axis=1))
+    assert np.array_equal(lowest, stacked.min(axis=1), equal_nan=True)
+
+
+def test_values_do_not_depend_on_the_order_of_the_points() -> None:
+    """Evaluated triangle by triangle, each point's value is the one it has alone."""
+    mesh = _l_shaped_mesh()
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
+    u.Set(ngs.CF((ngs.sin(4 * ngs.x) * ngs.y, ngs.cos(3 * ngs.y) + ngs.x * ngs.x)))
+    points = 0.9 * np.random.default_rng(7).random((500, 2)) + 0.02
+    locator = PointLocator(mesh)
+    together = locator.values(u, points)
+    alone = np.vstack([locator.values(u, p[None]) for p in points[:50]])
+    assert np.array_equal(together[:50], alone)
+
+
+def test_a_few_points_find_the_nearest_site_the_tree_finds() -> None:
+    """Without a tree (a few points) the same nearest sites as the k-d tree's."""
+    rng = np.random.default_rng(11)
+    sites, points = rng.random((900, 2)), 1.2 * rng.random((40, 2)) - 0.1
+    assert np.array_equal(nearest(sites, points), cKDTree(sites).query(points)[1])
+    many = rng.random((400, 2))
+    assert np.array_equal(nearest(sites, many), cKDTree(sites).query(many)[1])

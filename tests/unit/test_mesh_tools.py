@@ -261,3 +261,36 @@ def test_flip_flat_triangles_leaves_good_triangles_and_flips_the_long_edge() -> 
     assert {tuple(sorted(t)) for t in flipped} == {(0, 1, 3), (1, 2, 3), (0, 3, 4), (2, 3, 4)}
     good = np.array([[0, 1, 2], [0, 2, 4]])
     assert np.array_equal(flip_flat_triangles(xy, good), good)
+
+
+def test_a_pocket_landed_on_covered_bed_is_seen_and_cut_before_meshing() -> None:
+    """A rolling front's air pocket (bed, up over the pocket, down to the bed, bed on) whose
+    far end landed behind its near end: two bed edges overlap, collinear, so no edge
+    crosses another and Netgen fails on the polygon (what stopped a no-slip run at 22
+    degrees with steps of 1e-14 s). The overlap names the pocket's top, whose cut lets the
+    polygon mesh with its area kept."""
+    from granflow.ale.free_surface import bed_overlaps, crossing_segments, overlap_pocket
+    from granflow.geometry.profile import BedProfile
+
+    points = [(0.0, 0.0), (0.6, 0.0), (0.62, 0.01), (0.64, 0.0), (0.7, 0.0), (0.75, 0.05),
+              (0.0, 0.1)]
+    labels = [BED, SURFACE, SURFACE, BED, SURFACE, SURFACE, WALL]
+    mesh = polygon_mesh(points, labels, 0.05)
+    xy = mesh.ngmesh.Coordinates()
+    chain = BoundaryChain(mesh)
+    far_end = int(np.argmin(np.hypot(xy[:, 0] - 0.64, xy[:, 1])))
+    top = int(np.argmin(np.hypot(xy[:, 0] - 0.62, xy[:, 1] - 0.01)))
+    bed = BedProfile.flat(0.0, 1.0)
+    assert not len(bed_overlaps(xy, chain.segments, bed.height, bed.arc_length, 1e-12))
+    xy[far_end] = (0.58, 0.0)                       # landed behind the pocket's near end
+    assert not len(crossing_segments(xy, chain.segments))
+    pairs = bed_overlaps(xy, chain.segments, bed.height, bed.arc_length, 1e-12)
+    assert len(pairs)
+    cut = overlap_pocket(chain.segments, chain.labels(), chain.index[SURFACE], pairs)
+    assert cut.tolist() == [top]
+    with pytest.raises(Exception, match="meshing failed"):
+        remesh(mesh, 0.05)
+    new = remesh(mesh, 0.05, cut=cut).mesh
+    assert polygon_area(new.ngmesh.Coordinates(), BoundaryChain(new).segments) == (
+        pytest.approx(polygon_area(xy, chain.segments), rel=1e-12))
+    assert shape_quality(new).min() > 0.2

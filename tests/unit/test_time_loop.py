@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from granflow.simulation.outcomes import IterationReport, MoveFailure
+from granflow.simulation.outcomes import IterationReport, MeshingFailed, MoveFailure
 from granflow.simulation.simulation import STALL_STEPS, Simulation
 from granflow.simulation.timestep import AdaptiveStep, RampedStep, fixed_step
 
@@ -68,7 +68,7 @@ class StubRemesher:
     def remesh(self) -> None:
         self.calls += 1
         if self.fails:
-            raise Exception("meshing failed")   # as Netgen's NgException: not a RuntimeError
+            raise MeshingFailed("meshing failed")
 
 
 def loop(motion: FoldingMotion, remesher: StubRemesher) -> Simulation:
@@ -104,18 +104,66 @@ def test_a_quality_remesh_that_fails_leaves_the_run_on_its_valid_mesh() -> None:
     result = loop(FoldingMotion(failures=0), remesher).run()
     assert result.status == "completed" and result.steps == 10
     assert remesher.calls == 10 and result.skipped_remeshes == 10
-    assert result.remesh_failures == {"Exception": 10}
+    assert result.remesh_failures == {"MeshingFailed": 10}
 
 
-def test_a_remesh_raising_a_defect_is_counted_by_its_type() -> None:
-    class BrokenRemesher(StubRemesher):
+class BrokenRemesher(StubRemesher):
+    """A remesher with a defect: it raises what no mesher raises."""
+
+    def remesh(self) -> None:
+        self.calls += 1
+        raise TypeError("transfer() takes 3 positional arguments but 4 were given")
+
+
+def test_a_remesh_raising_a_defect_after_a_step_stops_the_run_at_once() -> None:
+    """A quality remesh that raises a TypeError ends the run after the step that asked
+    for it (kept, as its outputs are), with when, where and what to do."""
+    remesher = BrokenRemesher(fails=True, wanted=True)
+    result = loop(FoldingMotion(failures=0), remesher).run()
+    assert result.status == "failed" and result.steps == 1 and remesher.calls == 1
+    assert result.skipped_remeshes == 0 and result.remesh_failures == {"TypeError": 1}
+    for part in ("after step 1 at t = 0.001 s", "TypeError in remesh (test_time_loop.py:",
+                 "takes 3 positional arguments", "a defect in granflow", "config.toml"):
+        assert part in result.message
+
+
+def test_a_remesh_raising_a_defect_for_a_folding_move_stops_the_run_at_once() -> None:
+    """Not retried with smaller steps as a mesher's failure is."""
+    remesher = BrokenRemesher(fails=True)
+    result = loop(FoldingMotion(failures=10**6), remesher).run()
+    assert result.status == "failed" and result.steps == 0 and remesher.calls == 1
+    assert result.rejected_steps == 0
+    assert "after step 0 at t = 0 s: remeshing raised TypeError" in result.message
+
+
+class OtherMesherError(Exception):
+    """A mesher's own error type that is no RuntimeError (as Netgen's NgException)."""
+
+
+def test_a_mesher_failure_of_the_scenarios_type_is_retried_and_any_other_is_not() -> None:
+    class Refusing(StubRemesher):
         def remesh(self) -> None:
             self.calls += 1
-            raise TypeError("transfer() takes 3 positional arguments but 4 were given")
+            raise OtherMesherError("meshing failed")
 
-    result = loop(FoldingMotion(failures=0), BrokenRemesher(fails=True, wanted=True)).run()
-    assert result.status == "completed"
-    assert result.remesh_failures == {"TypeError": 10}
+    sim = loop(FoldingMotion(failures=0), Refusing(fails=True, wanted=True))
+    sim.mesher_failures = (MeshingFailed, OtherMesherError)
+    result = sim.run()
+    assert result.status == "completed" and result.skipped_remeshes == 10
+    assert result.remesh_failures == {"OtherMesherError": 10}
+    result = loop(FoldingMotion(failures=0), Refusing(fails=True, wanted=True)).run()
+    assert result.status == "failed" and result.steps == 1
+
+
+def test_a_not_implemented_carrier_is_a_defect_though_a_runtime_error() -> None:
+    class Unfinished(StubRemesher):
+        def remesh(self) -> None:
+            raise NotImplementedError("a piecewise-constant field is not carried")
+
+    sim = loop(FoldingMotion(failures=0), Unfinished(fails=True, wanted=True))
+    sim.mesher_failures = (RuntimeError,)
+    result = sim.run()
+    assert result.status == "failed" and "NotImplementedError" in result.message
 
 
 class TinyStepSolver(StubSolver):

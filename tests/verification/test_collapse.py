@@ -81,6 +81,30 @@ def test_check_rejects_an_inverted_mesh() -> None:
     assert signed_areas(problem.mesh).min() > 0
 
 
+def test_a_move_landing_a_pocket_on_covered_bed_is_refused_with_the_pocket_named() -> None:
+    """A rolling front's air pocket whose far end a move lands behind its near end: no edge
+    crosses another (the two bed edges overlap, collinear), yet the polygon cannot be
+    meshed; the mover refuses the move and names the pocket's top for the remesh to cut."""
+    from granflow.scenarios.column_discretisation import discretise
+
+    problem = build_column(load_config("trapezoid-rigid", [*COARSE, "time.t_end=0.1"]))
+    points = [(0.0, 0.0), (0.6, 0.0), (0.62, 0.01), (0.64, 0.0), (0.7, 0.0), (0.75, 0.05),
+              (0.0, 0.1)]
+    labels = [BED, SURFACE, SURFACE, BED, SURFACE, SURFACE, "wall"]
+    mover = discretise(problem.setup, polygon_mesh(points, labels, 0.05)).mover
+    xy = mover.mesh.ngmesh.Coordinates()
+    far_end = int(np.argmin(np.hypot(xy[:, 0] - 0.64, xy[:, 1])))
+    top = int(np.argmin(np.hypot(xy[:, 0] - 0.62, xy[:, 1] - 0.01)))
+    mover.w_vertices = np.zeros_like(xy)
+    mover.move(0.0)
+    assert mover.check() is None and not mover.fold_pocket.size
+    mover.w_vertices[far_end, 0] = -0.06               # to x = 0.58, behind x = 0.6
+    mover.move(1.0)
+    failure = mover.check()
+    assert failure is not None and failure.remeshable
+    assert mover.fold_pocket.tolist() == [top]
+
+
 def sliding_block(slope_deg: float, viscosity: float = 1e4, tol: float = 1e-8,
                   t_end: float = 0.05, dt: float = 5e-3, size: float = 0.05,
                   load: str = "pressure") -> float:

@@ -7,9 +7,12 @@ The section's move (``ale/column_mover.py``) walks boundary segments; here the b
 triangulation (Netgen's surface elements of a tetrahedral mesh) and the planes are the bed
 Z = 0, the back wall X = 0 and the two faces across the channel (``ChannelSpan``). A vertex
 on one of them moves along it: its velocity's normal component is dropped. Section 3.3 in
-3D: the step is shortened so that no surface vertex crosses the bed or the back wall, the
-first to reach one landing on it; a surface triangle lying on a plane takes its label (and
-its friction and u.N = 0). The checks and amounts are volumes (m^3).
+3D: the step is shortened so that no surface vertex crosses a bounding plane it is not on
+(the bed, the back wall, a side wall or the centre plane), the first to reach one landing
+on it; a surface triangle lying on a plane takes its label (and its friction and u.N = 0).
+Without the landing on the faces across the channel, a surface vertex drifting towards a
+side wall at the thinning wall front crossed it, and the step was halved until it came
+within 1e-9 m (steps of 1e-8 s). The checks and amounts are volumes (m^3).
 """
 
 from __future__ import annotations
@@ -60,7 +63,7 @@ class ChannelMover(AleMover):
         self.initial_volume = self.volume()
         self.relabelled_segments = 0      # surface triangles deposited (the runner's name)
         self.limited_steps = 0
-        self.landed: np.ndarray = np.empty(0, dtype=np.int64)
+        self.landed: np.ndarray = np.empty((0, 2), dtype=np.int64)   # (vertex, plane)
         self.step_correction = 0.0        # relative volume restored at the last move
         self.correction_abs = 0.0
         self.correction_net = 0.0
@@ -88,8 +91,8 @@ class ChannelMover(AleMover):
 
     # --- the step ------------------------------------------------------------------------
     def prepare(self, dt: float) -> float:
-        """w for this step, and dt shortened so that no surface vertex crosses the bed or
-        the back wall (the first to reach one lands on it, ``move``)."""
+        """w for this step, and dt shortened so that no surface vertex crosses a bounding
+        plane (the first to reach one lands on it, ``move``)."""
         self._prepare_w(dt)
         assert self.w_vertices is not None
         limited, self.landed = self._landing(dt)
@@ -110,26 +113,32 @@ class ChannelMover(AleMover):
         self.w_vertices[held] = 0.0
 
     def _landing(self, dt: float) -> tuple[float, np.ndarray]:
-        """The step to the first landing of a free surface vertex on the bed or the back
-        wall, and the vertices that land within it."""
+        """The step to the first landing of a free-surface vertex on a bounding plane it is
+        not on, and the landings within it: rows (vertex, plane's index in
+        ``span.planes()``)."""
         assert self.w_vertices is not None
         xyz = self.mesh.ngmesh.Coordinates()
-        free = self._surface[~self.span.held(xyz)[self._surface].any(axis=1)]
-        times = np.full(len(free), np.inf)
-        for axis in (0, 2):                       # the back wall X = 0, the bed Z = 0
-            w = self.w_vertices[free, axis]
-            going = w < 0
-            times[going] = np.minimum(times[going], xyz[free[going], axis] / -w[going])
+        surface = self._surface
+        held = self.span.held(xyz)[surface]
+        planes = self.span.planes()
+        times = np.full((len(surface), len(planes)), np.inf)
+        for k, (axis, value, _) in enumerate(planes):
+            gap = xyz[surface, axis] - value            # the vertex's side: the inside
+            w = self.w_vertices[surface, axis]
+            going = ~held[:, axis] & (gap * w < 0)      # moving towards the plane
+            times[going, k] = np.maximum(-gap[going] / w[going], 0.0)
         if times.size and float(times.min()) < dt:
             dt = float(times.min())
-        return dt, free[times <= dt * (1 + LANDING_TOLERANCE)]
+        landing = np.flatnonzero(times.min(axis=1, initial=np.inf) <= dt * (1 + LANDING_TOLERANCE))
+        return dt, np.column_stack([surface[landing], np.argmin(times[landing], axis=1)])
 
     def move(self, dt: float) -> None:
         super().move(dt)
         xyz = self.mesh.ngmesh.Coordinates()
-        for v in self.landed:                     # onto the plane it reached first
-            axis = 0 if xyz[v, 0] < xyz[v, 2] else 2
-            xyz[v, axis] = 0.0
+        planes = self.span.planes()
+        for v, k in self.landed:                  # onto the plane it reached first
+            axis, value, _ = planes[k]
+            xyz[v, axis] = value
         xyz[:, 0] = np.maximum(xyz[:, 0], 0.0)
         xyz[:, 2] = np.maximum(xyz[:, 2], 0.0)
         self.step_correction = 0.0

@@ -16,6 +16,7 @@ import numpy as np
 
 from granflow.ale.channel_surface import plane_section, section_polygon
 from granflow.geometry.mesh3d import ChannelSpan, lofted_mesh
+from granflow.simulation.outcomes import MeshingFailed
 
 BED_FLOOR = 0.02    # x mesh.size: the surface this close to the bed at the front is bed
 
@@ -28,7 +29,7 @@ def lofted_remesh(mesh: ngs.Mesh, span: ChannelSpan, size: float) -> ngs.Mesh:
     traces = [plane_section(mesh, float(y)) for y in np.linspace(span.low, span.high,
                                                                  stations)]
     if any(len(trace) < 2 for trace in traces):
-        raise ValueError("a station across the channel misses the free surface")
+        raise MeshingFailed("a station across the channel misses the free surface")
     longest = max(float(np.sum(np.linalg.norm(np.diff(t, axis=0), axis=1))) for t in traces)
     count = max(3, math.ceil(longest / size) + 1)
     sections = [section_polygon(trace, count, BED_FLOOR * size) for trace in traces]

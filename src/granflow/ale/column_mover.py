@@ -34,8 +34,10 @@ from granflow.ale.free_surface import (
     AREA,
     BoundaryChain,
     PolygonMeasure,
+    bed_overlaps,
     conserve_area,
     crossing_segments,
+    overlap_pocket,
     pocket,
 )
 from granflow.ale.mesh_motion import (
@@ -118,6 +120,7 @@ class ColumnMover(AleMover):
         self._tension_accepted: TensionState | None = None   # the tension before the move
         # the surface vertices a refused move folded over (``pocket``): the remesh cuts them
         self.fold_pocket: np.ndarray = np.empty(0, dtype=np.int64)
+        self._overlapping: np.ndarray | None = None   # the last check's overlapping bed segments
         # the volume fix: relative area restored at the last move, and summed over the run
         # (|.| and signed), so that a volume error of 0 by construction says what it cost
         self.step_correction = 0.0
@@ -299,9 +302,10 @@ class ColumnMover(AleMover):
 
     def check(self) -> MoveFailure | None:
         problem = super().check()
-        if problem is not None:
-            return problem
         xy = self.mesh.ngmesh.Coordinates()
+        if problem is not None:
+            self.fold_pocket = self._overlap_pocket(xy)   # cut by the remesh, if any
+            return problem
         lines = [line for line in (self.support.wall, self.end) if line is not None]
         if (np.any(self.support.bed.height(xy) < -CROSS)
                 or any(np.any(line.height(xy) < -CROSS) for line in lines)):
@@ -311,7 +315,19 @@ class ColumnMover(AleMover):
             self.fold_pocket = pocket(self.chain.segments, self.chain.labels(),
                                       self.chain.index[SURFACE], crossing)
             return MoveFailure.SELF_INTERSECTS
-        return None
+        self.fold_pocket = self._overlap_pocket(xy)
+        return MoveFailure.SELF_INTERSECTS if self._overlapping is not None else None
+
+    def _overlap_pocket(self, xy: np.ndarray) -> np.ndarray:
+        """The pocket of surface a move landed on bed the material covers (two bed segments
+        overlapping: collinear, which the crossing test does not see), else none."""
+        bed = self.support.bed
+        pairs = bed_overlaps(xy, self.chain.segments, bed.height, bed.arc_length, CROSS)
+        self._overlapping = pairs if len(pairs) else None
+        if not len(pairs):
+            return np.empty(0, dtype=np.int64)
+        return overlap_pocket(self.chain.segments, self.chain.labels(),
+                              self.chain.index[SURFACE], pairs)
 
     def after_accept(self) -> None:
         xy = self.mesh.ngmesh.Coordinates()

@@ -207,3 +207,52 @@ def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
         delta = (target - measure.size(xy, segments)) / denom
         xy[movable] += delta * g
     return (measure.size(xy, segments) - before) / abs(target)
+
+
+def bed_overlaps(xy: np.ndarray, segments: np.ndarray, height: Callable[[np.ndarray], np.ndarray],
+                 along: Callable[[np.ndarray], np.ndarray], tol: float) -> np.ndarray:
+    """(k, 2) pairs of boundary segments lying on the bed (both ends within ``tol`` of it by
+    ``height``) that share no vertex and overlap along it (by more than ``tol`` in ``along``,
+    the distance along the bed): a surface vertex landed on bed the material already
+    covers. The crossing test (``crossing``) cannot see it: the two segments are collinear."""
+    down = height(xy) <= tol
+    flat = np.flatnonzero(down[segments[:, 0]] & down[segments[:, 1]])
+    if len(flat) < 2:
+        return np.empty((0, 2), dtype=np.int64)
+    s = along(xy[:, 0])[segments[flat]]
+    lo, hi = s.min(axis=1), s.max(axis=1)
+    order = np.argsort(lo)
+    lo, hi, flat = lo[order], hi[order], flat[order]
+    reach = np.maximum.accumulate(hi)          # the furthest any earlier segment reaches
+    out = []
+    for k in np.flatnonzero(reach[:-1] > lo[1:] + tol) + 1:
+        for j in np.flatnonzero(hi[:k] > lo[k] + tol):
+            a, b = flat[j], flat[k]
+            if not np.intersect1d(segments[a], segments[b]).size:
+                out.append((a, b))
+    return np.array(out, dtype=np.int64).reshape(-1, 2)
+
+
+def overlap_pocket(segments: np.ndarray, labels: np.ndarray, surface: int,
+                   pairs: np.ndarray) -> np.ndarray:
+    """The free-surface vertices between two overlapping bed segments (``bed_overlaps``):
+    for each pair, the inner vertices of the way along the boundary from the end of one to
+    the start of the other, the shorter way round, when every edge on it is free surface
+    (a pocket of the surface landed on bed the material covers). Dropped by the remesh,
+    they leave the two bed segments meeting in a spike that ``ale/remesh.drop_spikes``
+    removes: the pocket closes onto the bed."""
+    after = dict(segments.tolist())
+    label_of = {int(a): int(lab) for (a, _), lab in zip(segments, labels, strict=True)}
+    out: set[int] = set()
+    for a, b in pairs:
+        ways = []
+        for first, last in ((int(segments[a, 1]), int(segments[b, 0])),
+                            (int(segments[b, 1]), int(segments[a, 0]))):
+            way = [first]
+            while way[-1] != last and len(way) <= len(segments):
+                way.append(int(after[way[-1]]))
+            ways.append(way)
+        way = min(ways, key=len)
+        if all(label_of[v] == surface for v in way[:-1]):
+            out.update(way[1:-1])
+    return np.array(sorted(out), dtype=np.int64)

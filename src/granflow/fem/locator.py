@@ -4,16 +4,17 @@ A material point tracked through the flow (an erodible layer's line and markers)
 after step, in the triangle it lay in before or in a neighbour of it. ``PointLocator``
 builds the triangles' neighbours once per mesh (the ALE moves the vertices, never the
 connectivity) and walks, for all points together with numpy, from a first guess (the
-triangle the point was in at the last call, else the one whose centroid is nearest, from
-a k-d tree of the current centroids) across the edge facing the point until the point's
-barycentric coordinates are all non-negative. A point whose walk leaves the mesh is
+triangle the point was in at the last call, else the one whose centroid is nearest: from
+a k-d tree of the current centroids, or for a few points their distances to every one)
+across the edge facing the point until the point's barycentric coordinates are all
+non-negative. A point whose walk leaves the mesh is
 outside if it is outside the boundary polygon by more than the tolerance, else (behind a
 concave stretch of the boundary, or on it) tested against every triangle. A point is
 inside when it is within NGSolve's own tolerance of a triangle (barycentric coordinates
 above -1e-6), as NGSolve's search decides; that search rebuilds its tree whenever the
 vertices have moved (about 5 ms for a thousand triangles and 4,500 points, every step).
 The fields are then evaluated by NGSolve on one array of mesh points (its compiled
-evaluation).
+evaluation), sorted by triangle (half the time of the points' own order, the same values).
 """
 
 from __future__ import annotations
@@ -24,10 +25,12 @@ import shapely
 from scipy.spatial import cKDTree
 
 from granflow.fem.sampling import triangles
+from granflow.simulation.outcomes import MeshingFailed
 
 WALK_STEPS = 16     # triangles crossed at most before a point is tested against all
 TOLERANCE = 1e-6    # NGSolve's: a point with barycentric coordinates above -TOLERANCE is in
 CHUNK = 2_000_000   # point-triangle pairs tested at once by the exhaustive search
+FEW_PAIRS = 50_000  # point-site pairs under which the nearest site is found without a tree
 
 
 def neighbours(tri: np.ndarray) -> np.ndarray:
@@ -59,6 +62,7 @@ class PointLocator:
         self._dtype, self._meshptr = template.dtype, template["meshptr"][0]
         self.loop = _boundary_loop(mesh)
         self.searched = 0     # points tested against every triangle (the walk's misses)
+        self._owners: tuple[np.ndarray, np.ndarray] | None = None   # (``at_vertices``)
 
     def locate(self, points: np.ndarray, guess: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
@@ -77,31 +81,41 @@ class PointLocator:
                    else np.asarray(guess, dtype=np.int64).copy())
         fresh = current < 0
         if fresh.any():
-            tree = cKDTree(corners.mean(axis=1))
-            current[fresh] = tree.query(points[fresh])[1]
-        todo = np.arange(n)
+            current[fresh] = nearest(corners.mean(axis=1), points[fresh])
+        frames = _Frames(corners)
+        todo, px, py = np.arange(n), points[:, 0].copy(), points[:, 1].copy()
         for _ in range(WALK_STEPS):
-            coords = _barycentric(corners[current], points[todo])
-            lowest = coords.min(axis=1)
-            step = self.across[current, np.argmin(coords, axis=1)]
+            l0, l1, l2 = frames.barycentric(current, px, py)
+            lowest, corner = _lowest(l0, l1, l2)
+            step = self.across[current, corner]
             found = (lowest >= 0.0) | ((step < 0) & (lowest >= -TOLERANCE))
-            element[todo[found]] = current[found]
-            lam[todo[found]] = coords[found, :2]
+            at = todo[found]
+            element[at] = current[found]
+            lam[at, 0], lam[at, 1] = l0[found], l1[found]
             go = ~found & (step >= 0)
-            todo, current = todo[go], step[go]
+            todo, current, px, py = todo[go], step[go], px[go], py[go]
             if not len(todo):
                 break
         missed = np.flatnonzero(element < 0)
         if len(missed):       # outside, unless behind a concave stretch of the boundary
-            polygon = shapely.Polygon(xy[self.loop])    # or on it, within the tolerance
             edges = np.hypot(*(corners - np.roll(corners, 1, axis=1)).transpose(2, 0, 1))
-            near = shapely.dwithin(polygon, shapely.points(points[missed]),
-                                   TOLERANCE * float(edges.max()))
-            missed = missed[near]
+            missed = missed[self._near_boundary(xy, points[missed],   # or on it, within
+                                                TOLERANCE * float(edges.max()))]  # the tolerance
         if len(missed):
             self.searched += len(missed)
             element[missed], lam[missed] = self._search(corners, points[missed])
         return element, lam
+
+    def _near_boundary(self, xy: np.ndarray, points: np.ndarray, distance: float
+                       ) -> np.ndarray:
+        """Which ``points`` lie within ``distance`` of the mesh's boundary polygon. A
+        boundary too degenerate for shapely (fewer than three vertices, a topology GEOS
+        rejects) is the mesher's failure, not a defect (``MeshingFailed``)."""
+        try:
+            polygon = shapely.Polygon(xy[self.loop])
+            return shapely.dwithin(polygon, shapely.points(points), distance)
+        except (ValueError, shapely.errors.GEOSException) as exc:
+            raise MeshingFailed(f"the mesh's boundary is not a polygon: {exc}") from exc
 
     def _search(self, corners: np.ndarray, points: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray]:
@@ -141,28 +155,42 @@ class PointLocator:
         triangle around it)."""
         out = np.empty((len(points), cf.dim))
         inside = element >= 0
-        if inside.any():
-            found = self.mesh_points(element[inside], lam[inside])
-            out[inside] = np.asarray(cf(found)).reshape(-1, cf.dim)
+        if inside.any():        # triangle by triangle: NGSolve reads each one's dofs once
+            order = np.flatnonzero(inside)
+            order = order[np.argsort(element[order], kind="stable")]
+            found = self.mesh_points(element[order], lam[order])
+            out[order] = np.asarray(cf(found)).reshape(-1, cf.dim)
         if not inside.all():
             xy = self.mesh.ngmesh.Coordinates()
-            nearest = cKDTree(xy).query(points[~inside])[1]
-            out[~inside] = self.at_vertices(cf, nearest)
+            out[~inside] = self.at_vertices(cf, nearest(xy, points[~inside]))
         return out
 
     def at_vertices(self, cf: ngs.CoefficientFunction, vertices: np.ndarray) -> np.ndarray:
         """``cf`` at mesh vertices, each read in one triangle that has it as a corner."""
-        owner = np.full(self.mesh.nv, -1, dtype=np.int64)
-        corner = np.zeros(self.mesh.nv, dtype=np.int64)
-        for k in (2, 1, 0):          # any triangle will do; the lowest corner number wins
-            owner[self.tri[:, k]] = np.arange(len(self.tri))
-            corner[self.tri[:, k]] = k
+        if self._owners is None:     # once per mesh: the connectivity does not change
+            owner = np.full(self.mesh.nv, -1, dtype=np.int64)
+            corner = np.zeros(self.mesh.nv, dtype=np.int64)
+            for k in (2, 1, 0):      # any triangle will do; the lowest corner number wins
+                owner[self.tri[:, k]] = np.arange(len(self.tri))
+                corner[self.tri[:, k]] = k
+            self._owners = owner, corner
+        owner, corner = self._owners
         lam = np.zeros((len(vertices), 2))
         which = corner[vertices]
         lam[which == 0, 0] = 1.0
         lam[which == 1, 1] = 1.0
         found = self.mesh_points(owner[vertices], lam)
         return np.asarray(cf(found)).reshape(-1, cf.dim)
+
+
+def nearest(sites: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Per point, the index of the nearest site: by a k-d tree, or for a few points (the
+    walk's misses a step leaves, a tree not worth building) by their squared distances to
+    every site, the sums the tree compares."""
+    if len(points) * len(sites) > FEW_PAIRS:
+        return cKDTree(sites).query(points)[1]
+    d = sites[None, :, :] - points[:, None, :]
+    return np.argmin(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1], axis=1)
 
 
 def _boundary_loop(mesh: ngs.Mesh) -> np.ndarray:
@@ -176,6 +204,40 @@ def _boundary_loop(mesh: ngs.Mesh) -> np.ndarray:
             break
         loop.append(nxt)
     return np.array(loop, dtype=np.int64)
+
+
+class _Frames:
+    """Per triangle, the terms ``_barycentric`` computes its coordinates from, as flat
+    arrays (the same numbers, gathered per point faster than the corners)."""
+
+    def __init__(self, corners: np.ndarray) -> None:
+        c = np.ascontiguousarray(corners.transpose(2, 1, 0))     # (x/y, corner, triangle)
+        self.ox, self.oy = c[0, 2], c[1, 2]
+        self.ax, self.ay = c[0, 0] - self.ox, c[1, 0] - self.oy
+        self.bx, self.by = c[0, 1] - self.ox, c[1, 1] - self.oy
+        self.det = self.ax * self.by - self.ay * self.bx
+
+    def barycentric(self, element: np.ndarray, px: np.ndarray, py: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The three barycentric coordinates of the points (px, py) in their triangles."""
+        rx, ry = px - self.ox[element], py - self.oy[element]
+        ax, ay, bx, by = (self.ax[element], self.ay[element], self.bx[element],
+                          self.by[element])
+        det = self.det[element]
+        l0 = (rx * by - ry * bx) / det
+        l1 = (ax * ry - ay * rx) / det
+        return l0, l1, 1.0 - l0 - l1
+
+
+def _lowest(l0: np.ndarray, l1: np.ndarray, l2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest of three coordinates and which one (the first of equals, as argmin;
+    a NaN of a flat triangle is the smallest)."""
+    lowest = np.minimum(np.minimum(l0, l1), l2)
+    corner = np.where(l0 == lowest, 0, np.where(l1 == lowest, 1, 2))
+    flat = np.isnan(lowest)
+    if flat.any():
+        corner[flat] = np.argmin(np.stack([l0[flat], l1[flat], l2[flat]], axis=1), axis=1)
+    return lowest, corner
 
 
 def _barycentric(c: np.ndarray, p: np.ndarray) -> np.ndarray:

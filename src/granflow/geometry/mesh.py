@@ -8,13 +8,20 @@ from collections.abc import Sequence
 import ngsolve as ngs
 import numpy as np
 from netgen.geom2d import SplineGeometry
-from netgen.meshing import Element1D, Element2D, MeshingParameters, MeshPoint, Pnt
+from netgen.meshing import Element1D, Element2D, MeshingParameters, MeshPoint, NgException, Pnt
 from netgen.meshing import Mesh as NgMesh
 from ngsolve.meshes import MakeStructured2DMesh
 
 from granflow.geometry.labels import BED, END, GATE, INTERIOR, LABELS, SURFACE, WALL
 from granflow.geometry.profile import CORNER_DEG
 from granflow.geometry.stretch import ISOTROPIC, LayerStretch
+
+# what meshing a moved domain raises when it cannot be meshed (the time loop goes on after
+# these: ``Simulation.mesher_failures``): Netgen's NgException (its meshers and OCC's
+# lofting) and RuntimeError, which the remesh's geometry checks raise (a boundary that is
+# not one loop, a fold not untangled, a triangle inverted by the layer's stretch; the loop's
+# ``MeshingFailed`` is one) and pybind11 makes of the meshers' other C++ errors
+MESHER_FAILURES: tuple[type[Exception], ...] = (NgException, RuntimeError)
 
 __all__ = ["BED", "END", "GATE", "INTERIOR", "LABELS", "SURFACE", "WALL", "build_mesh",
            "periodic_layer_mesh", "polygon_mesh", "signed_areas", "stacked_layer_mesh",

@@ -17,11 +17,16 @@ import numpy as np
 from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshPoint
 from netgen.meshing import Mesh as NgMesh
 from netgen.meshing import Pnt as NgPnt
-from netgen.occ import Face, OCCGeometry, Pnt, Segment, ThruSections, Vec, Wire
+from netgen.occ import Face, OCCException, OCCGeometry, Pnt, Segment, ThruSections, Vec, Wire
 from ngsolve.meshes import MakeStructured3DMesh
 
 from granflow.geometry.domains import Polygon
 from granflow.geometry.labels import BED, SIDE, SURFACE, SYMMETRY, WALL
+from granflow.geometry.mesh import MESHER_FAILURES
+
+# what lofting and meshing a moved body raise when they cannot (``Simulation.mesher_failures``):
+# the 2D mesher's types and OCC's own exception (a loft OCC cannot build)
+LOFT_FAILURES: tuple[type[Exception], ...] = (*MESHER_FAILURES, OCCException)
 
 # how far (relative to the channel's width) a face's centre may lie off a plane and count on it
 _ON_PLANE = 1e-9

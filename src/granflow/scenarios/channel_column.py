@@ -17,7 +17,12 @@ import numpy as np
 from granflow.ale.channel_mover import ChannelMover
 from granflow.config import Config
 from granflow.fem.flow import FlowSolver
-from granflow.geometry.mesh3d import extruded_mesh, mesh_arrays, mesh_from_arrays
+from granflow.geometry.mesh3d import (
+    LOFT_FAILURES,
+    extruded_mesh,
+    mesh_arrays,
+    mesh_from_arrays,
+)
 from granflow.scenarios.channel_discretisation import ChannelDiscretisation, discretise
 from granflow.scenarios.channel_measures import ChannelMeasures
 from granflow.scenarios.channel_remesher import ChannelRemesher
@@ -82,6 +87,7 @@ def build_channel_column(config: Config) -> ChannelCollapse:
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations,
                             mesh_motion=current.mover,
+                            mesher_failures=LOFT_FAILURES,
                             velocity_floor=config.numerics.velocity_floor)
     remesher = ChannelRemesher(setup, current, simulation)
     simulation.remesher = remesher

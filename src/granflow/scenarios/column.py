@@ -22,7 +22,7 @@ from granflow.config import Config
 from granflow.diagnostics.inertial import InertialNumbers
 from granflow.fem.flow import FlowSolver
 from granflow.geometry.domains import Polygon
-from granflow.geometry.mesh import polygon_mesh
+from granflow.geometry.mesh import MESHER_FAILURES, polygon_mesh
 from granflow.physics import gravity_vector
 from granflow.scenarios.collapse_state import CheckpointedCollapse
 from granflow.scenarios.column_discretisation import ColumnDiscretisation, discretise
@@ -106,6 +106,7 @@ def build_column(config: Config) -> ColumnCollapse:
                             t_end=config.time.t_end,
                             max_iterations=config.numerics.max_iterations,
                             mesh_motion=current.mover,
+                            mesher_failures=MESHER_FAILURES,
                             velocity_floor=config.numerics.velocity_floor)
     remesher = ColumnRemesher(setup, current, simulation, layer=layer, size_field=field)
     measures = ColumnMeasures(setup, current, remesher, simulation,

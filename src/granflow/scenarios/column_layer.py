@@ -117,39 +117,54 @@ class LayerTracking(Outputs):
         """The velocity u^n of the accepted state at the line and the markers, and its rate
         (u^n - u^{n-1}) / dt_{n-1} when the mesh moves with the extrapolated mid-step
         velocity (``numerics.ale_extrapolation``): what carries them over the next step, as
-        the ALE carries the free surface (to the same order in time)."""
+        the ALE carries the free surface (to the same order in time). Both point sets are
+        located and evaluated in one pass, u^n and u^{n-1} together; the rate is NGSolve's
+        (u^n - u^{n-1}) * (1 / dt_{n-1}), the same numbers."""
         solver = self.current.solver
         u = solver.velocity
         extrapolate = self.setup.config.numerics.ale_extrapolation and solver.dt_previous > 0
+        fields = ngs.CF((u, solver.before_previous.components[0])) if extrapolate else u
+        line, markers = self.material.line, self.material.markers
+        values = self._values(fields, {"line": line, "markers": markers})
+        self.line_velocity, self.marker_velocity = values["line"][:, :2], values["markers"][:, :2]
+        self._rates = None
         if extrapolate:
-            rate = (u - solver.before_previous.components[0]) / solver.dt_previous
-            u = ngs.CF((u, rate))
-        line = self._values(u, self.material.line, "line")
-        markers = self._values(u, self.material.markers, "markers")
-        self.line_velocity, self.marker_velocity = line[:, :2], markers[:, :2]
-        self._rates = (line[:, 2:], markers[:, 2:]) if extrapolate else None
+            scale = 1.0 / solver.dt_previous
+            self._rates = tuple((v[:, :2] - v[:, 2:]) * scale
+                                for v in (values["line"], values["markers"]))
 
-    def _values(self, u: ngs.CoefficientFunction, points: np.ndarray, name: str
-                ) -> np.ndarray:
-        """``u`` at the points; 0 beyond the meshed layer's end (``mesh.layer_ahead``),
-        where the layer is at rest. Each point's search starts from the triangle it was
-        found in at the last step (the points called ``name``; the line's points keep
-        their order along it while a few are inserted or dropped each step, so the i-th
-        of n starts from the triangle of the same fraction of the last step's)."""
+    def _values(self, u: ngs.CoefficientFunction, named: dict[str, np.ndarray]
+                ) -> dict[str, np.ndarray]:
+        """``u`` at each set of points; 0 beyond the meshed layer's end
+        (``mesh.layer_ahead``), where the layer is at rest. All the sets are located and
+        evaluated together; each point's search starts from the triangle it was found in at
+        the last step (the set of that name; the line's points keep their order along it
+        while a few are inserted or dropped each step, so the i-th of n starts from the
+        triangle of the same fraction of the last step's)."""
+        locator = self.locator()
+        points = np.vstack(list(named.values()))
+        guesses = []
+        for name, at in named.items():
+            guess = self._triangles.get(name)
+            if guess is None:
+                guess = np.full(len(at), -1, dtype=np.int64)
+            elif len(guess) != len(at):
+                guess = (guess[np.round(np.linspace(0, len(guess) - 1, len(at))).astype(int)]
+                         if len(guess) else np.full(len(at), -1, dtype=np.int64))
+            guesses.append(guess)
+        guess = np.concatenate(guesses)
         out = np.zeros((len(points), u.dim))
         meshed = points[:, 0] <= self.current.mover.end_x
-        locator = self.locator()
-        guess = self._triangles.get(name)
-        if guess is not None and len(guess) != len(points) and len(guess):
-            guess = guess[np.round(np.linspace(0, len(guess) - 1, len(points))).astype(int)]
         found = np.full(len(points), -1, dtype=np.int64)
         if meshed.any():
             at = points[meshed]
-            element, lam = locator.locate(at, None if guess is None else guess[meshed])
+            element, lam = locator.locate(at, guess[meshed])
             out[meshed] = locator.evaluate(u, at, element, lam)
             found[meshed] = element
-        self._triangles[name] = found
-        return out
+        ends = np.cumsum([len(at) for at in named.values()])[:-1]
+        for name, part in zip(named, np.split(found, ends), strict=True):
+            self._triangles[name] = part
+        return dict(zip(named, np.split(out, ends), strict=True))
 
     def locator(self) -> PointLocator:
         """The point location of the current mesh (built again after a remesh, which

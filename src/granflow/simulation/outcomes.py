@@ -48,6 +48,12 @@ class IterationReport:
         return None if self.converged else Failure.NOT_CONVERGED
 
 
+class MeshingFailed(RuntimeError):
+    """A remesh could not mesh the moved domain (a boundary the mesher refuses, a polygon
+    too degenerate to read): the loop goes on with the mesh it has or a smaller step. Any
+    other error from a remesh is a defect and ends the run (``simulation.py``)."""
+
+
 class MoveFailure(Enum):
     """Why a mesh move was refused; the first two can be cured by remeshing."""
 

@@ -33,8 +33,15 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, ClassVar, Protocol
 
-from granflow.simulation.outcomes import Failure, IterationReport, MoveFailure, RunResult
+from granflow.simulation.outcomes import (
+    Failure,
+    IterationReport,
+    MeshingFailed,
+    MoveFailure,
+    RunResult,
+)
 from granflow.simulation.outputs import Callbacks
+from granflow.simulation.remesh_errors import RemeshDefect, defect_message, mesher_failed
 from granflow.simulation.rest import RestCriterion
 from granflow.simulation.timestep import (
     AdaptiveStep,
@@ -134,6 +141,10 @@ class Simulation:
     mesh_motion: MeshMotion | None = None
     stop_criteria: Sequence[StopCriterion] = ()
     remesher: Remesher | None = None
+    # what a remesh raises when the mesher cannot mesh the moved domain (the scenario adds
+    # its mesher's own types, Netgen's NgException): retried or skipped; any other type
+    # from a remesh is a defect and ends the run
+    mesher_failures: tuple[type[Exception], ...] = (MeshingFailed,)
     velocity_floor: float = 0.0
     max_consecutive_rejections: int = 12
     stall_steps: int = STALL_STEPS       # 0: no stall test
@@ -276,12 +287,23 @@ class Simulation:
             return False
         self.mesh_motion.undo()
         self.remeshed_this_step = True
-        try:
-            self.remesher.remesh()
-        except Exception as exc:  # (the mesher's own errors too) then a smaller step
-            self._remesh_failed(exc)
+        if not self._remeshed():      # the mesher failed: then a smaller step
             return False
         self.remeshed_moves += 1
+        return True
+
+    def _remeshed(self) -> bool:
+        """Remesh; False if the mesher could not (``mesher_failures``: counted, and the
+        message of a run that then fails names it). Any other error is a defect: raised
+        as ``RemeshDefect``, which ends the run at once."""
+        assert self.remesher is not None
+        try:
+            self.remesher.remesh()
+        except Exception as exc:
+            self._remesh_failed(exc)
+            if mesher_failed(exc, self.mesher_failures):
+                return False
+            raise RemeshDefect(defect_message(exc, self.step, self.t)) from exc
         return True
 
     def _remesh_failed(self, exc: Exception) -> None:
@@ -309,11 +331,8 @@ class Simulation:
                    and self.remesher is not None and self.remesher.degraded())
         if (tangled or stalled) and self.remesher is not None and not self.remeshed_this_step:
             self.remeshed_this_step = True
-            try:
-                self.remesher.remesh()  # a tangling move or a stall: new mesh, same dt
-                return None
-            except Exception as exc:  # (the mesher's own errors too) then smaller steps
-                self._remesh_failed(exc)
+            if self._remeshed():   # a tangling move or a stall: new mesh, same dt
+                return None        # (else the mesher failed: smaller steps)
         self._rejections_in_row += 1
         try:
             if self._rejections_in_row > self.max_consecutive_rejections:
@@ -373,21 +392,31 @@ class Simulation:
             self.attempted_dt = dt
             try:
                 attempt = self._attempt(dt, tol)
+            except RemeshDefect as defect:
+                status, message = "failed", defect.message
+                break
             except Exception as exc:  # a solver failure is a result, not a crash
                 attempt = _Attempt(self.attempted_dt, rejection=Rejection.EXCEPTION,
                                    detail=f"{type(exc).__name__}: {exc}")
             if attempt.rejection is not None:
                 self._undo()
-                failure = self._reject(attempt)
+                try:
+                    failure = self._reject(attempt)
+                except RemeshDefect as defect:
+                    failure = defect.message
                 if failure is not None:
                     status, message = "failed", failure
                     break
                 continue
             self._accept(attempt)
+            defect = self._remesh_if_due()
             reason = next((r for c in self.stop_criteria if (r := c(self)) is not None), None)
             stall = self._stalled() if reason is None else None
             for callback in list(self.callbacks.values()):
                 callback(self)
+            if defect is not None:      # the step stands and is written; the run stops
+                status, message = "failed", defect
+                break
             if reason is not None:
                 status, message = "stopped", reason
                 break
@@ -418,9 +447,16 @@ class Simulation:
         self.t += self.dt
         self.step += 1
         self.last_report, self.last_estimate = attempt.report, attempt.estimate
-        if self.remesher is not None and self.remesher.needs_remesh():
-            try:
-                self.remesher.remesh()
-            except Exception as exc:   # (the mesher's own errors too) the mesh in use is
-                self._remesh_failed(exc)     # valid: go on; a tangling step asks again
+
+    def _remesh_if_due(self) -> str | None:
+        """The remesh the mesh's quality asks for after an accepted step. If the mesher
+        cannot make it, the mesh in use is valid: the run goes on (a tangling step asks
+        again). Returns the message of a defect, which ends the run."""
+        if self.remesher is None or not self.remesher.needs_remesh():
+            return None
+        try:
+            if not self._remeshed():
                 self.skipped_remeshes += 1
+        except RemeshDefect as defect:
+            return defect.message
+        return None
