@@ -2,7 +2,8 @@
 rate-dependent laws, and the nonlocal law's deposit on a bed that does not slide.
 
 Run: python benchmarks/bed_models.py [--cases flat rest] [--levels 0.014 0.007]
-         [--viscosity 0.01] [--laws glass-beads nonlocal] [--beds material no-slip]
+         [--viscosity 0.01] [--channel-width 0.1] [--laws glass-beads nonlocal]
+         [--beds material no-slip]
          [--shapes rectangle trapezoid] [--out benchmarks/results/bed_models]
 
 - flat: the paper's rectangle and trapezoid on the level bed (`rectangle-rigid`,
@@ -20,7 +21,10 @@ Run: python benchmarks/bed_models.py [--cases flat rest] [--levels 0.014 0.007]
 ``--viscosity ETA`` runs the flat case with material.viscosity = ETA (the paper's 1 Pa s
 otherwise), its runs named NAME-etaETA beside the others; every flat row is compared with
 Drucker-Prager on the Coulomb bed at the paper's 1 Pa s (the model the paper shows against
-the experiments). ``--laws``, ``--beds`` and ``--shapes`` run a part of the flat case.
+the experiments). ``--channel-width W`` puts the flat runs in the experiments' channel
+(boundary.channel_width = W: the side walls' depth-averaged drag (2 mu_w / W) p at the
+default wall friction), named NAME[-etaETA]-wallsW. ``--laws``, ``--beds`` and ``--shapes``
+run a part of the flat case.
 
 Runs go to OUT/runs/NAME (checkpoints every 100 steps: a killed study continues where it
 stopped); OUT/bed_models.json holds every figure, OUT/bed_models.md the tables.
@@ -75,14 +79,23 @@ def final_surface(run: Path) -> np.ndarray | None:
     return np.column_stack([surface["x"], surface["z"]])
 
 
+def run_tail(viscosity: float | None, channel_width: float | None) -> str:
+    """The suffix naming a flat run's viscosity and channel: -etaETA, -wallsW."""
+    return (("" if viscosity is None else f"-eta{viscosity:g}")
+            + ("" if channel_width is None else f"-walls{channel_width:g}"))
+
+
 def flat(out: Path, results: dict, viscosity: float | None = None,
          laws: tuple[str, ...] = tuple(LAWS), beds: tuple[str, ...] = BEDS,
-         shapes: tuple[str, ...] = tuple(SHAPES)) -> dict:
+         shapes: tuple[str, ...] = tuple(SHAPES), channel_width: float | None = None) -> dict:
     """The level-bed runs of ``shapes`` x ``laws`` x ``beds`` (``viscosity``: eta, Pa s,
-    else the paper's), each kept when finished and continued from its checkpoint."""
+    else the paper's; ``channel_width``: side walls, m, else none), each kept when finished
+    and continued from its checkpoint."""
     rows = results.setdefault("flat", {})
-    tail = "" if viscosity is None else f"-eta{viscosity:g}"
+    tail = run_tail(viscosity, channel_width)
     eta = [] if viscosity is None else [f"material.viscosity={viscosity!r}"]
+    if channel_width is not None:
+        eta.append(f"boundary.channel_width={channel_width!r}")
     for shape in shapes:
         scenario = SHAPES[shape]
         reference = out / "runs" / f"{shape}-drucker-prager-coulomb"
@@ -166,13 +179,15 @@ def markdown(results: dict) -> list[str]:
     if flat_rows:
         lines += ["## The level bed: stop time, runout, final surface against Drucker-Prager "
                   "on the Coulomb bed (eta = 1 Pa s: the paper's model)", "",
-                  "| column | law | bed | eta (Pa s) | stop (s) | runout (m) | runout against "
-                  "the paper's model | surface: mean / max (mm) |",
-                  "|---|---|---|---|---|---|---|---|"]
+                  "| column | law | bed | eta (Pa s) | side walls | stop (s) | runout (m) | "
+                  "runout against the paper's model | surface: mean / max (mm) |",
+                  "|---|---|---|---|---|---|---|---|---|"]
         for name, r in flat_rows.items():
             shape, rest_of = name.split("-", 1)
             law = next(k for k in LAWS if rest_of.startswith(k))
-            bed, _, eta = rest_of[len(law) + 1:].partition("-eta")
+            named, _, walls = rest_of[len(law) + 1:].partition("-walls")
+            bed, _, eta = named.partition("-eta")
+            channel = f"{walls} m" if walls else "no"
             paper = flat_rows.get(f"{shape}-drucker-prager-coulomb", {}).get("runout_m")
             change = "-" if not paper else f"{100 * (r['runout_m'] / paper - 1):+.1f} %"
             stop = ("-" if r.get("stop_time_s") is None else f"{r['stop_time_s']:.3f}") + (
@@ -180,7 +195,7 @@ def markdown(results: dict) -> list[str]:
             surface = ("-" if "surface_to_paper_model_mean_mm" not in r else
                        f"{r['surface_to_paper_model_mean_mm']:.1f} / "
                        f"{r['surface_to_paper_model_max_mm']:.1f}")
-            lines.append(f"| {shape} | {law} | {bed} | {eta or '1'} | {stop} | "
+            lines.append(f"| {shape} | {law} | {bed} | {eta or '1'} | {channel} | {stop} | "
                          f"{r['runout_m']:.4f} | {change} | {surface} |")
         lines.append("")
     rest_rows = results.get("rest", {})
@@ -207,6 +222,9 @@ def main() -> None:
     parser.add_argument("--levels", nargs="+", type=float, default=[0.014])
     parser.add_argument("--viscosity", type=float, default=None,
                         help="flat case: material.viscosity (Pa s); the paper's 1 otherwise")
+    parser.add_argument("--channel-width", type=float, default=None,
+                        help="flat case: boundary.channel_width (m), the side walls; none "
+                        "otherwise")
     parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=LAWS)
     parser.add_argument("--beds", nargs="+", default=list(BEDS), choices=BEDS)
     parser.add_argument("--shapes", nargs="+", default=list(SHAPES), choices=SHAPES)
@@ -215,13 +233,13 @@ def main() -> None:
     results = read_results(args.out / "bed_models.json")
     if "flat" in args.cases:
         flat(args.out, results, args.viscosity, tuple(args.laws), tuple(args.beds),
-             tuple(args.shapes))
+             tuple(args.shapes), args.channel_width)
     if "rest" in args.cases:
         rest(args.out, results, args.levels)
     results = read_results(args.out / "bed_models.json")    # with rows run meanwhile
     write_results(args.out, "bed_models", results, markdown(results), show=True)
     if "flat" in args.cases:
-        figure(args.out, "" if args.viscosity is None else f"-eta{args.viscosity:g}")
+        figure(args.out, run_tail(args.viscosity, args.channel_width))
 
 
 if __name__ == "__main__":

@@ -103,12 +103,20 @@ VARIANTS = {
                                       "material.viscosity=0.01"],
     "glass-beads-material-small-eta": [*GLASS_BEADS, "boundary.bed=material",
                                        "material.viscosity=0.01"],
+    # the same on the no-slip bed in the experiments' 10 cm channel: the side walls'
+    # depth-averaged drag (2 mu_w / W) p, mu_w = tan 10.2 deg
+    "glass-beads-no-slip-small-eta-walls": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                            "material.viscosity=0.01",
+                                            "boundary.channel_width=0.1"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
 # runout by more than 30 % (the meshed layer ends mesh.layer_ahead ahead of the flow, so
 # an unused length costs nothing)
 REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta": 2.0}
+# a layer of a fixed length (m), so that it need not wait for its rigid twin: 3 m is twice
+# the furthest front of the rows without walls at 0-19 degrees (1.46 m at 3 s)
+LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0}
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
@@ -134,7 +142,8 @@ def overrides(variant: str, shape: str, he: float, slope: float,
     out = [*COMMON, *own, f"geometry.slope_deg={slope!r}"]
     if he > 0:
         reach = REACH.get(variant, 1.3)
-        length = max(1.0, reach * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope
+        length = LENGTH.get(variant) or (
+            max(1.0, reach * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope)
         out += [*ERODIBLE, f"mesh.layer_cells={cells}", f"geometry.erodible_thickness={he!r}",
                 f"geometry.height={HEIGHT[shape] + he!r}", f"geometry.bed_length={length!r}"]
     return out

@@ -236,6 +236,45 @@ def _study_gain(he: str, slope: int, t: str) -> Callable[[Any], float]:
                          - data[f"{ETA_VARIANT}-0mm-{slope}"]["front_history"][t])
 
 
+WALLS_STUDY = "erosion_slopes_walls/erosion_slopes.json"
+WALLS_VARIANT = "glass-beads-no-slip-small-eta-walls/rectangle"
+NO_WALLS = json.loads((RESULTS / ETA_STUDY).read_text())
+
+
+def _walls(he: str, slope: int, key: str) -> Callable[[Any], float]:
+    """A row of the study in the 10 cm channel (he in mm, "0" rigid)."""
+    return lambda data: data[f"{WALLS_VARIANT}-{he}mm-{slope}"][key]
+
+
+def _walls_gain(slope: int, t: str | None, rows: str = "walls") -> Callable[[Any], float]:
+    """The 5 mm row's front minus its rigid twin's at ``t`` (at rest: None), in mm, of the
+    study in the channel or (``rows`` = "none") of the one without walls."""
+    def gain(data: Any) -> float:
+        data, variant = (data, WALLS_VARIANT) if rows == "walls" else (NO_WALLS, ETA_VARIANT)
+        layer, rigid = (data[f"{variant}-{he}mm-{slope}"] for he in ("5", "0"))
+        if t is None:
+            return 1e3 * (layer["runout_m"] - rigid["runout_m"])
+        return 1e3 * (layer["front_history"][t] - rigid["front_history"][t])
+    return gain
+
+
+def _walls_ratio(data: Any) -> float:
+    """The level row's runout over its rigid twin's, in the channel."""
+    return data[f"{WALLS_VARIANT}-5mm-0"]["runout_m"] / data[f"{WALLS_VARIANT}-0mm-0"]["runout_m"]
+
+
+def _walls_ratio_at(slope: int) -> Callable[[Any], float]:
+    """The 5 mm row's front over its rigid twin's at the end, in the channel."""
+    return lambda data: (data[f"{WALLS_VARIANT}-5mm-{slope}"]["runout_m"]
+                         / data[f"{WALLS_VARIANT}-0mm-{slope}"]["runout_m"])
+
+
+def _beyond_footprint(slope: int) -> Callable[[Any], float]:
+    """The share of the displaced layer that started beyond the column's footprint."""
+    return lambda data: 1 - data[f"{WALLS_VARIANT}-5mm-{slope}"][
+        "displaced_from_under_column_share"]
+
+
 PACKED_LAYERS = [f"{law}/{bed}+small-eta+{packing}-layer"
                  for law in ("drucker-prager", "glass-beads", "hysteretic", "nonlocal")
                  for bed in ("no-slip", "material-bed") for packing in ("loose", "dense")]
@@ -265,6 +304,26 @@ def _against_paper_model(name: str) -> Callable[[Any], float]:
         reference = data["flat"][f"{shape}-drucker-prager-coulomb"]["runout_m"]
         return abs(data["flat"][name]["runout_m"] / reference - 1)
     return relative
+
+
+def _spreading_cut(shape: str, length: float) -> Callable[[Any], float]:
+    """The share of the no-slip run's spreading beyond the initial length ``length`` (m)
+    that the 10 cm channel's walls take, eta = 0.01."""
+    def cut(data: Any) -> float:
+        runs = data["flat"]
+        free = runs[f"{shape}-glass-beads-no-slip-eta0.01"]["runout_m"] - length
+        walls = runs[f"{shape}-glass-beads-no-slip-eta0.01-walls0.1"]["runout_m"] - length
+        return 1 - walls / free
+    return cut
+
+
+def _walls_cut(scenario: str, length: float) -> Callable[[Any], float]:
+    """The share of the paper's model's spreading beyond ``length`` (m) that the 10 cm
+    channel's walls take (benchmarks/side_walls.py)."""
+    def cut(data: Any) -> float:
+        runs = {r["case"]: r["runout_m"] for r in data if r["scenario"] == scenario}
+        return 1 - (runs["side walls"] - length) / (runs["no side walls"] - length)
+    return cut
 
 
 def _largest_surface_gap(data: Any) -> float:
@@ -1245,6 +1304,143 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _against_paper_model("trapezoid-glass-beads-material-eta0.01"), ".1f", 100),
     ("docs/erosion.md", "+27.0 %, at rest at {} s", BED_MODELS,
      _flat("trapezoid-glass-beads-material-eta0.01", "stop_time_s"), ".3f", 1),
+    # --- the slopes in the 10 cm channel (erosion_slopes.py, variant ...-walls)
+    ("docs/erosion.md", "| rigid bed | {} m, at rest at 1.043 s |", WALLS_STUDY,
+     _walls("0", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "| rigid bed | 0.4526 m, at rest at {} s |", WALLS_STUDY,
+     _walls("0", 0, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| front {} m at 3 s, still creeping |", WALLS_STUDY,
+     _walls("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "| 5 mm layer | {} m, at rest at 0.984 s", WALLS_STUDY,
+     _walls("5", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.4741 m, at rest at {} s: ratio 1.05", WALLS_STUDY,
+     _walls("5", 0, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "at rest at 0.984 s: ratio {} |", WALLS_STUDY,
+     _walls_ratio,
+     ".2f", 1),
+    ("docs/erosion.md", "the walls take {} % off the rigid", WALLS_STUDY,
+     lambda d: 1 - d[f"{WALLS_VARIANT}-0mm-0"]["runout_m"]
+     / NO_WALLS[f"{ETA_VARIANT}-0mm-0"]["runout_m"], ".1f", 100),
+    ("docs/erosion.md", "runout ({} m without them)", ETA_STUDY,
+     _study("0", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "the front is at {} m at 3 s, against", WALLS_STUDY,
+     _walls("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "against {} m without walls; it moved", ETA_STUDY,
+     _study("0", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "it moved {} mm in its last half second", WALLS_STUDY,
+     lambda d: 1e3 * (d[f"{WALLS_VARIANT}-0mm-19"]["front_history"]["3"]
+                      - d[f"{WALLS_VARIANT}-0mm-19"]["front_history"]["2.5"]), ".1f", 1),
+    ("docs/erosion.md", "within the predicted 1.01–1.05** ({})", WALLS_STUDY,
+     _walls_ratio,
+     ".3f", 1),
+    ("docs/erosion.md", "+{} mm at rest, against +20 mm without", WALLS_STUDY,
+     _walls_gain(0, None), ".0f", 1),
+    ("docs/erosion.md", "against +{} mm without walls. The walls shorten", WALLS_STUDY,
+     _walls_gain(0, None, "none"), ".0f", 1),
+    ("docs/erosion.md", "(+{} mm at 0.3 s, predicted +5", WALLS_STUDY,
+     _walls_gain(0, "0.3"), ".0f", 1),
+    ("docs/erosion.md", "At 19° the early gain (+{} mm at 0.3 s)", WALLS_STUDY,
+     _walls_gain(19, "0.3"), ".0f", 1),
+    ("docs/erosion.md", "and {}–99 % of it started beyond", WALLS_STUDY,
+     _beyond_footprint(0), ".0f", 100),
+    ("docs/erosion.md", "and 96–{} % of it started beyond", WALLS_STUDY,
+     _beyond_footprint(19), ".0f", 100),
+    ("docs/erosion.md", "The median advance is {} cm at 0°", WALLS_STUDY,
+     _walls("5", 0, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "and {} cm at 19°.", WALLS_STUDY,
+     _walls("5", 19, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "(+6.2 and +{} %), and over 5 mm", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +{} / +5.6 %, material +17.8", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +6.2 / +{} %, material +17.8", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "no-slip +6.2 / +5.6 %, material +{} / +12.2 %", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/verification.md", "material +17.8 / +{} % | the no-slip bed passes", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "| front {} m at 3 s, moving at 6 mm/s", WALLS_STUDY,
+     _walls("5", 19, "runout_m"), ".3f", 1),
+    ("docs/erosion.md", "m at 3 s, moving at {} mm/s: ratio", WALLS_STUDY,
+     _walls("5", 19, "front_speed_end_m_s"), ".0f", 1000),
+    ("docs/erosion.md", "moving at 6 mm/s: ratio ≈ {} |", WALLS_STUDY,
+     _walls_ratio_at(19), ".2f", 1),
+    ("docs/erosion.md", "The 19° ratio is as predicted** (≈ {}, in", WALLS_STUDY,
+     _walls_ratio_at(19), ".3f", 1),
+    ("docs/erosion.md", "| failed at {} s |", WALLS_STUDY, _walls("0", 22, "t_final"), ".3f", 1),
+    ("docs/erosion.md", "fails again**, at {} s (a boundary", WALLS_STUDY,
+     _walls("0", 22, "t_final"), ".3f", 1),
+    ("docs/erosion.md", "Without walls it failed at {} s.", ETA_STUDY,
+     _study("0", 22, "t_final"), ".3f", 1),
+    ("docs/erosion.md", "its front is\n   within {} mm of the run without walls", WALLS_STUDY,
+     lambda d: 1e3 * abs(d[f"{WALLS_VARIANT}-0mm-22"]["front_history"]["0.5"]
+                         - NO_WALLS[f"{ETA_VARIANT}-0mm-22"]["front_history"]["0.5"]),
+     ".0f", 1),
+    ("docs/erosion.md", "At most {} % of it ends ahead of", WALLS_STUDY,
+     _walls("5", 19, "displaced_ahead_of_column_share"), ".0f", 100),
+    ("docs/erosion.md", "its ratio is 1.05 at 0° and ≈ {} at 19°", WALLS_STUDY,
+     _walls_ratio_at(19), ".2f", 1),
+    ("docs/verification.md", "5 mm: 1.05 at 0°, ≈ {} at 19° (both", WALLS_STUDY,
+     _walls_ratio_at(19), ".2f", 1),
+    ("docs/verification.md", "the 22° rigid twin failed at {} s |", WALLS_STUDY,
+     _walls("0", 22, "t_final"), ".3f", 1),
+    # --- the level collapses with eta = 0.01 in the 10 cm channel (--channel-width 0.1)
+    ("docs/erosion.md", "| no-slip | {} m, +6.2 %, at rest at 1.036 s", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.4514 m, +{} %, at rest at 1.036 s", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+6.2 %, at rest at {} s", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "1.036 s | {} m, +5.6 %", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.7018 m, +{} %, at rest at 1.841 s", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+5.6 %, at rest at {} s", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| material | {} m, +17.8 %", BED_MODELS,
+     _flat("rectangle-glass-beads-material-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.5009 m, +{} %, at rest at 1.002 s", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+17.8 %, at rest at {} s", BED_MODELS,
+     _flat("rectangle-glass-beads-material-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "1.002 s | {} m, +12.2 %", BED_MODELS,
+     _flat("trapezoid-glass-beads-material-eta0.01-walls0.1", "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "0.7458 m, +{} %, at rest at 1.480 s", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-material-eta0.01-walls0.1"), ".1f", 100),
+    ("docs/erosion.md", "+12.2 %, at rest at {} s", BED_MODELS,
+     _flat("trapezoid-glass-beads-material-eta0.01-walls0.1", "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "now {} and 6.2 mm from the paper model's", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "now 5.1 and {} mm from the paper model's", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "against {} and 21.8 mm without walls", BED_MODELS,
+     _flat("rectangle-glass-beads-no-slip-eta0.01", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "against 10.1 and {} mm without walls", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01", "surface_to_paper_model_mean_mm"),
+     ".1f", 1),
+    ("docs/erosion.md", "by {} % (rectangle) and", BED_MODELS,
+     _spreading_cut("rectangle", 0.20), ".1f", 100),
+    ("docs/erosion.md", "and {} % (trapezoid) on the no-slip bed", BED_MODELS,
+     _spreading_cut("trapezoid", 0.297), ".1f", 100),
+    ("docs/erosion.md", "Without walls it ran +{} % and +20.2 %", BED_MODELS,
+     _against_paper_model("rectangle-glass-beads-no-slip-eta0.01"), ".1f", 100),
+    ("docs/erosion.md", "Without walls it ran +12.8 % and +{} %", BED_MODELS,
+     _against_paper_model("trapezoid-glass-beads-no-slip-eta0.01"), ".1f", 100),
+    ("docs/erosion.md", "the paper's model they cut it by {} % and", "side_walls/side_walls.json",
+     _walls_cut("rectangle-rigid", 0.20), ".1f", 100),
+    ("docs/erosion.md", "% and {} % ([side walls]", "side_walls/side_walls.json",
+     _walls_cut("trapezoid-rigid", 0.297), ".1f", 100),
+    ("docs/erosion.md", "(the no-slip trapezoid's at {} s, against", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01-walls0.1", "front_stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "s, against {} s without)", BED_MODELS,
+     _flat("trapezoid-glass-beads-no-slip-eta0.01", "front_stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "comes to rest {} s later than without walls", BED_MODELS,
+     lambda d: (d["flat"]["trapezoid-glass-beads-no-slip-eta0.01-walls0.1"]["stop_time_s"]
+                - d["flat"]["trapezoid-glass-beads-no-slip-eta0.01"]["stop_time_s"]),
+     ".2f", 1),
 ]
 
 

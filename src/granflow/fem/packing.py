@@ -28,11 +28,20 @@ it converges. The friction tan(psi) of the stress reads I at the iterate, as mu(
 Both stay within the values they start from and phi_eq: a packing outside (0, 0.7405] is a
 failure of the run (``PackingOutOfRange``), never clipped.
 
-Mass. The grains' mass is sum_K rho_s phi_K |K|. The flow's volume changes by the integral
-of div u; the column's free-surface fix (``ale/column_mover.py``) keeps the mass instead of
-the area: the measure the material would fill at its initial packing, |Omega| + sum_K
-(phi_K - phi_0) / phi_0 |K| (``volume_excess``), which is the area itself while the
-packing has not changed.
+Mass. The grains' mass is M = sum_K rho_K |K|, rho_K = rho_s phi_K (with a layer: the two
+materials' blended by the share of layer material). The flow's volume changes by the
+integral of div u; the column's free-surface fix (``ale/column_mover.py``) keeps the mass
+instead of the area, through ``volume_excess``: with one material the measure the material
+would fill at its initial packing, |Omega| + sum_K (phi_K - phi_0) / phi_0 |K|, the area
+itself while the packing has not changed. With a layer of another packing that measure is
+not the mass: the departure and the share of layer material are carried by different
+schemes, the departure crosses the interface, and a measure that assumed each material's
+mass kept let the mass drift by 1e-4 in a tenth of a second. The excess is then the mass's
+own, (M - M_0) / rho_0 + |Omega_0| - sum_K |K| with rho_0 the column's initial density
+and M_0, |Omega_0| the mass and measure at t = 0 (0 before they are taken: the initial
+state; 0 with K = 0, the incompressible run): the fix keeps the two materials' mass
+together, to round-off, after every accepted step and every change of the share
+(``scenarios/column_discretisation.py``).
 """
 
 from __future__ import annotations
@@ -180,6 +189,7 @@ class PackingCoupling(Coupling):
     share_of_checkpoint: Share = {"packing": may_lack(array("cells")),
                                   "packing_equilibrium": may_lack(array("cells")),
                                   "packing_initial_mass": may_lack(REAL),
+                                  "packing_initial_measure": may_lack(REAL),
                                   "packing_vertices": may_lack(array("vertices", None))}
 
     def __init__(self, field: PackingField, laws: tuple[CriticalState, ...],
@@ -190,6 +200,7 @@ class PackingCoupling(Coupling):
         self._xy = field.mesh.ngmesh.Coordinates().copy()
         self._flow: Flow | None = None
         self._initial_mass: float | None = None
+        self._initial_measure: float | None = None   # |Omega_0|, taken with the mass
         self._at_rest = True       # phi_eq not yet set from a flow (``start_step``)
 
     # --- the law and the forms -------------------------------------------------------------
@@ -270,6 +281,7 @@ class PackingCoupling(Coupling):
         return {"packing": self.field.values.copy(),
                 "packing_equilibrium": self.field.equilibrium.vec.FV().NumPy().copy(),
                 "packing_initial_mass": self.initial_mass(),
+                "packing_initial_measure": self._initial_measure,
                 "packing_vertices": self._xy.copy()}
 
     def restore(self, state: Mapping[str, object]) -> None:
@@ -284,6 +296,16 @@ class PackingCoupling(Coupling):
         self._xy = self.field.mesh.ngmesh.Coordinates().copy()
         if "packing_vertices" in state:       # (a checkpoint written before it was kept)
             assign(self._xy, state["packing_vertices"], "the checkpoint's packing vertices")
+        measure = state.get("packing_initial_measure")
+        self._initial_measure = (None if measure is None
+                                 else float(measure))   # type: ignore[arg-type]
+        if self._initial_measure is None and len(self.laws) > 1:
+            # written before it was kept: the excess it was written with (the measure at
+            # the initial packing) taken for the state as it stands, the mass kept from it
+            measures = self.field.cell_measures(self._xy)
+            then = float(np.sum(self.field.values / self._initial_packing() * measures))
+            self._initial_measure = 0.0
+            self._initial_measure = then - self.volume_excess(self._xy)
 
     def inherit(self, old: Coupling, carry: Carriers) -> None:
         assert isinstance(old, PackingCoupling)
@@ -291,6 +313,7 @@ class PackingCoupling(Coupling):
         carry.cells(old.field.equilibrium, self.field.equilibrium)
         self._at_rest = old._at_rest
         self._initial_mass = old.initial_mass()
+        self._initial_measure = old._initial_measure
         self._xy = self.field.mesh.ngmesh.Coordinates().copy()
 
     # --- what the free-surface fix and the outputs read ------------------------------------
@@ -300,9 +323,21 @@ class PackingCoupling(Coupling):
         return _blended(self.laws, share, lambda law: law.initial)
 
     def volume_excess(self, xy: np.ndarray) -> float:
-        """sum_K (phi_K - phi_0) / phi_0 |K| at the vertices ``xy`` (module docstring)."""
-        return float(np.sum(self.field.values / self._initial_packing()
-                            * self.field.cell_measures(xy)))
+        """What the free-surface fix adds to the measure |Omega| at the vertices ``xy`` to
+        keep the mass (module docstring): with one material sum_K (phi_K - phi_0) / phi_0
+        |K|; with two (M - M_0) / rho_0 + |Omega_0| - sum_K |K|, 0 before M_0 is taken."""
+        measures = self.field.cell_measures(xy)
+        if len(self.laws) == 1:
+            return float(np.sum(self.field.values / self._initial_packing() * measures))
+        if self._initial_mass is None or self._initial_measure is None:
+            return 0.0                                 # the initial state, unchanged
+        if not any(law.dilatancy for law in self.laws):
+            return 0.0              # K = 0: the incompressible flow, its packing unchanged
+        column = self.laws[0]
+        reference = column.grain_density * column.initial
+        mass = float(np.sum(self._densities() * measures))
+        return ((mass - self._initial_mass) / reference
+                + (self._initial_measure - float(np.sum(measures))))
 
     def packing(self) -> np.ndarray:
         """phi per triangle (its main material's phi_0 plus the departure)."""
@@ -312,14 +347,19 @@ class PackingCoupling(Coupling):
     def mass(self, xy: np.ndarray | None = None) -> float:
         """The grains' mass, sum_K rho_s phi_K |K| (kg per metre in plane strain)."""
         xy = self.field.mesh.ngmesh.Coordinates() if xy is None else xy
+        return float(np.sum(self._densities() * self.field.cell_measures(xy)))
+
+    def _densities(self) -> Any:
+        """rho_s phi per triangle, the materials' blended by the share of layer material."""
         share = None if self.fraction is None else self.fraction.vec.FV().NumPy()
         departure = self.field.values
-        density = _blended(self.laws, share,
-                           lambda law: law.grain_density * (law.initial + departure))
-        return float(np.sum(density * self.field.cell_measures(xy)))
+        return _blended(self.laws, share,
+                        lambda law: law.grain_density * (law.initial + departure))
 
     def initial_mass(self) -> float:
-        """The mass at t = 0 (taken on the first mesh before the first step moves it)."""
+        """The mass at t = 0 (taken on the first mesh before the first step moves it, with
+        the section's measure then)."""
         if self._initial_mass is None:
             self._initial_mass = self.mass(self._xy)
+            self._initial_measure = float(np.sum(self.field.cell_measures(self._xy)))
         return self._initial_mass

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import ngsolve as ngs
+import numpy as np
 
 from granflow.ale.column_mover import ColumnMover
 from granflow.ale.deposition import Support
@@ -23,6 +24,8 @@ from granflow.geometry.mesh import BED, END, GATE, WALL
 from granflow.scenarios.column_setup import ColumnSetup
 from granflow.scenarios.materials import share_of
 from granflow.scenarios.mobilisation_tracking import mobilisation_of
+
+SHARE_FIXES = 4   # rounds of the free-surface fix and the share at most (``set_fraction``)
 
 
 @dataclass
@@ -47,11 +50,26 @@ class ColumnDiscretisation:
         """A hysteretic friction's state (else None)."""
         return mobilisation_of(self.solver)
 
-    def set_fraction(self, layer: LayerMaterial | None) -> None:
-        """The material indicator of the current mesh from the tracked layer region."""
-        if self.fraction is not None and layer is not None:
-            self.fraction.vec.FV().NumPy()[:] = layer.fractions(
-                self.mesh.ngmesh.Coordinates(), triangles(self.mesh))
+    def set_fraction(self, layer: LayerMaterial | None, moved: bool = False) -> None:
+        """The material indicator of the current mesh from the tracked layer region.
+        ``moved``: the layer moved with the accepted step. With a packing fraction the
+        share of layer material enters the grains' mass (the two materials' densities
+        blended by it, ``fem/packing.py``): the free-surface fix then restores the mass, as
+        after the step itself (not on a new or restored mesh: a remesh restores it, a
+        checkpoint holds the state after the fix)."""
+        if self.fraction is None or layer is None:
+            return
+        share, xy = self.fraction.vec.FV().NumPy(), self.mesh.ngmesh.Coordinates()
+        mover = self.mover
+        share[:] = layer.fractions(xy, triangles(self.mesh))
+        if not (moved and mover.conserve_volume and mover.excess(xy) != 0.0):
+            return
+        for _ in range(SHARE_FIXES):    # the fix moves the surface cells, and their share
+            mover._conserve(xy, mover._movable(mover.landed))   # after_accept's fix
+            again = layer.fractions(xy, triangles(self.mesh))
+            if np.array_equal(again, share):
+                break
+            share[:] = again      # the share of the vertices kept (a checkpoint's, too)
 
 
 def friction_walls(setup: ColumnSetup) -> list[str]:

@@ -182,15 +182,16 @@ class LayerTracking(Outputs):
         return shapely.box(end, 0.0, length, self.material.thickness)
 
     def __call__(self, sim: Simulation) -> None:
-        """After an accepted step (and its remesh): move the layer, sample the new velocity,
-        refresh the indicator of a layer of its own material."""
+        """After an accepted step (and its remesh): move the layer, refresh the indicator
+        of a layer of its own material (with a packing, the mass's fix may then move the
+        free surface), sample the new velocity on the mesh as it is now."""
         line, markers = self.line_velocity, self.marker_velocity
         if self._rates is not None:      # the extrapolated mid-step velocity
             line = line + 0.5 * sim.dt * self._rates[0]
             markers = markers + 0.5 * sim.dt * self._rates[1]
         self.material.advance(line, markers, sim.dt)
+        self.current.set_fraction(self.material, moved=True)   # (may move the surface)
         self.sample()
-        self.current.set_fraction(self.material)
 
     # --- what the outputs read ---------------------------------------------------------
     def domain(self) -> shapely.Geometry:
