@@ -329,6 +329,12 @@ class ColumnMover(AleMover):
         return overlap_pocket(self.chain.segments, self.chain.labels(),
                               self.chain.index[SURFACE], pairs)
 
+    def conserve_again(self, xy: np.ndarray) -> float:
+        """The accepted step's free-surface fix applied again to the vertices at ``xy``,
+        after something the mover does not see changed the measure it keeps (the layer's
+        share, with two packings): the relative change it applied."""
+        return self._conserve(xy, self._movable(self.landed))
+
     def after_accept(self) -> None:
         xy = self.mesh.ngmesh.Coordinates()
         if self.conserve_volume and self._fixed_to is not None and (

@@ -65,7 +65,7 @@ class ColumnDiscretisation:
         if not (moved and mover.conserve_volume and mover.excess(xy) != 0.0):
             return
         for _ in range(SHARE_FIXES):    # the fix moves the surface cells, and their share
-            mover._conserve(xy, mover._movable(mover.landed))   # after_accept's fix
+            mover.conserve_again(xy)
             again = layer.fractions(xy, triangles(self.mesh))
             if np.array_equal(again, share):
                 break
