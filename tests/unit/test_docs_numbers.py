@@ -239,6 +239,7 @@ def _study_gain(he: str, slope: int, t: str) -> Callable[[Any], float]:
 WALLS_STUDY = "erosion_slopes_walls/erosion_slopes.json"
 WALLS_VARIANT = "glass-beads-no-slip-small-eta-walls/rectangle"
 NO_WALLS = json.loads((RESULTS / ETA_STUDY).read_text())
+WALLS_DATA = json.loads((RESULTS / WALLS_STUDY).read_text())
 
 
 def _walls(he: str, slope: int, key: str) -> Callable[[Any], float]:
@@ -267,6 +268,17 @@ def _walls_ratio_at(slope: int) -> Callable[[Any], float]:
     """The 5 mm row's front over its rigid twin's at the end, in the channel."""
     return lambda data: (data[f"{WALLS_VARIANT}-5mm-{slope}"]["runout_m"]
                          / data[f"{WALLS_VARIANT}-0mm-{slope}"]["runout_m"])
+
+
+def _fronts_row(label: str, slope: int, clock: tuple[str | None, ...]) -> list[tuple]:
+    """One claim a cell of the fronts table's row ``label`` in the channel: the 5 mm row's
+    front minus its rigid twin's at each time of ``clock`` (None: at rest; "-": no cell's
+    number), in mm."""
+    cells = ["-" if t == "-" else f"{_walls_gain(slope, t)(WALLS_DATA):+.0f}" for t in clock]
+    return [("docs/erosion.md",
+             "| " + " | ".join([label, *cells[:i], "{}", *cells[i + 1:]]) + " |",
+             WALLS_STUDY, _walls_gain(slope, t), "+.0f", 1)
+            for i, t in enumerate(clock) if t != "-"]
 
 
 def _beyond_footprint(slope: int) -> Callable[[Any], float]:
@@ -1408,10 +1420,95 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _walls("5", 19, "displaced_ahead_of_column_share"), ".0f", 100),
     ("docs/erosion.md", "its ratio is 1.05 at 0° and ≈ {} at 19°", WALLS_STUDY,
      _walls_ratio_at(19), ".2f", 1),
-    ("docs/verification.md", "5 mm: 1.05 at 0°, ≈ {} at 19° (both", WALLS_STUDY,
+    ("docs/verification.md", "≈ 1.10 at 16°, ≈ {} at 19° (both", WALLS_STUDY,
      _walls_ratio_at(19), ".2f", 1),
     ("docs/verification.md", "the 22° rigid twin failed at {} s |", WALLS_STUDY,
      _walls("0", 22, "t_final"), ".3f", 1),
+    # --- the rows at 10 and 16 degrees in the 10 cm channel
+    ("docs/erosion.md", "| rigid bed | {} m, at rest at 1.310 s (its front", WALLS_STUDY,
+     _walls("0", 10, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "| rigid bed | 0.6650 m, at rest at {} s (its front", WALLS_STUDY,
+     _walls("0", 10, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "at rest at 1.310 s (its front from {} s)", WALLS_STUDY,
+     _walls("0", 10, "front_stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| front {} m at 2 s and at 3 s, the mass", WALLS_STUDY,
+     lambda d: d[f"{WALLS_VARIANT}-0mm-16"]["front_history"]["2"], ".3f", 1),
+    ("docs/erosion.md", "| front 0.942 m at 2 s and at 3 s, the mass", WALLS_STUDY,
+     lambda d: d[f"{WALLS_VARIANT}-0mm-16"]["front_history"]["3"], ".3f", 1),
+    ("docs/erosion.md", "the flowing area below 1 % from {} s)", WALLS_STUDY,
+     _walls("0", 16, "duration_s"), ".3f", 1),
+    ("docs/erosion.md", "| 5 mm layer | {} m, at rest at 1.258 s: ratio 1.04", WALLS_STUDY,
+     _walls("5", 10, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "| 5 mm layer | 0.6921 m, at rest at {} s: ratio 1.04", WALLS_STUDY,
+     _walls("5", 10, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| 5 mm layer | 0.6921 m, at rest at 1.258 s: ratio {}", WALLS_STUDY,
+     _walls_ratio_at(10), ".2f", 1),
+    *_fronts_row("10°, walls", 10, ("0.1", "0.2", "0.3", "0.5", "0.75", "1", "-", None)),
+    *_fronts_row("16°, walls", 16, ("0.1", "0.2", "0.3", "0.5", "0.75", "1", "1.5", None)),
+    ("docs/erosion.md", "The ratio is {}, in the predicted 1.02–1.09", WALLS_STUDY,
+     _walls_ratio_at(10), ".3f", 1),
+    ("docs/erosion.md", "the layer\n  row runs +{} mm further", WALLS_STUDY,
+     _walls_gain(10, None), ".0f", 1),
+    ("docs/erosion.md", "It comes to rest {} s\n  before its twin", WALLS_STUDY,
+     lambda d: d[f"{WALLS_VARIANT}-0mm-10"]["stop_time_s"]
+     - d[f"{WALLS_VARIANT}-5mm-10"]["stop_time_s"], ".3f", 1),
+    ("docs/erosion.md", "stay within {} mm of each other to 0.5 s", WALLS_STUDY,
+     lambda d: max(abs(_walls_gain(10, t)(d)) for t in ("0.1", "0.2", "0.3", "0.5")),
+     ".0f", 1),
+    ("docs/erosion.md", "displaced ({} cm²\n  per centimetre", WALLS_STUDY,
+     _walls("5", 10, "layer_displaced_area_m2"), ".1f", 1e4),
+    ("docs/erosion.md", "width), {} % of it ends ahead of the column", WALLS_STUDY,
+     _walls("5", 10, "displaced_ahead_of_column_share"), ".0f", 100),
+    ("docs/erosion.md", "material, {} % of it\n  started beyond", WALLS_STUDY,
+     _beyond_footprint(10), ".0f", 100),
+    ("docs/erosion.md", "and its median advance is {} cm.", WALLS_STUDY,
+     _walls("5", 10, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "| {} m, at rest at 1.581 s: ratio ≈ 1.10", WALLS_STUDY,
+     _walls("5", 16, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "| 1.0352 m, at rest at {} s: ratio ≈ 1.10", WALLS_STUDY,
+     _walls("5", 16, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "| 1.0352 m, at rest at 1.581 s: ratio ≈ {} (the rigid", WALLS_STUDY,
+     _walls_ratio_at(16), ".2f", 1),
+    ("docs/erosion.md", "The layer row comes to rest at {} s at 1.0352 m", WALLS_STUDY,
+     _walls("5", 16, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "The layer row comes to rest at 1.581 s at {} m", WALLS_STUDY,
+     _walls("5", 16, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "twin's front stands at {} m from 2 s", WALLS_STUDY,
+     lambda d: d[f"{WALLS_VARIANT}-0mm-16"]["front_history"]["2"], ".3f", 1),
+    ("docs/erosion.md", "{} by the fronts, in the predicted 1.04–1.15", WALLS_STUDY,
+     _walls_ratio_at(16), ".3f", 1),
+    ("docs/erosion.md", "A small early gain (+{} mm at", WALLS_STUDY,
+     _walls_gain(16, "0.1"), ".0f", 1),
+    ("docs/erosion.md", "from 0.3 to 1.5 s (+{} mm)", WALLS_STUDY,
+     _walls_gain(16, "1.5"), ".0f", 1),
+    ("docs/erosion.md", "thin, and it falls to +{} mm as the rigid", WALLS_STUDY,
+     _walls_gain(16, None), ".0f", 1),
+    ("docs/erosion.md", "smaller than at 19° (+{} mm at 3 s)", WALLS_STUDY,
+     _walls_gain(19, "3"), ".0f", 1),
+    ("docs/erosion.md", "displaced ({} cm²),\n  0 % of it", WALLS_STUDY,
+     _walls("5", 16, "layer_displaced_area_m2"), ".1f", 1e4),
+    ("docs/erosion.md", "(41.3 cm²),\n  {} % of it ends ahead", WALLS_STUDY,
+     _walls("5", 16, "displaced_ahead_of_column_share"), ".0f", 100),
+    ("docs/erosion.md", "material, {} % of it started beyond the column's\n  footprint",
+     WALLS_STUDY, _beyond_footprint(16), ".0f", 100),
+    ("docs/erosion.md", "footprint, and its median advance is {} cm.", WALLS_STUDY,
+     _walls("5", 16, "displaced_advance_median_m"), ".1f", 100),
+    ("docs/erosion.md", "over 5 mm {}, 1.04, ≈ 1.10 and ≈ 1.15", WALLS_STUDY,
+     _walls_ratio, ".2f", 1),
+    ("docs/erosion.md", "over 5 mm 1.05, {}, ≈ 1.10 and ≈ 1.15", WALLS_STUDY,
+     _walls_ratio_at(10), ".2f", 1),
+    ("docs/erosion.md", "over 5 mm 1.05, 1.04, ≈ {} and ≈ 1.15", WALLS_STUDY,
+     _walls_ratio_at(16), ".2f", 1),
+    ("docs/erosion.md", "over 5 mm 1.05, 1.04, ≈ 1.10 and ≈ {}", WALLS_STUDY,
+     _walls_ratio_at(19), ".2f", 1),
+    ("docs/erosion.md", "(a +{} mm gain the experiments do not see), as", WALLS_STUDY,
+     _walls_gain(10, None), ".0f", 1),
+    ("docs/verification.md", "5 mm: 1.05 at 0°, {} at 10°, ≈ 1.10", WALLS_STUDY,
+     _walls_ratio_at(10), ".2f", 1),
+    ("docs/verification.md", "1.04 at 10°, ≈ {} at 16°, ≈", WALLS_STUDY,
+     _walls_ratio_at(16), ".2f", 1),
+    ("docs/verification.md", "but {} > 1 at 10°; the thickness", WALLS_STUDY,
+     _walls_ratio_at(10), ".2f", 1),
     # --- the level collapses with eta = 0.01 in the 10 cm channel (--channel-width 0.1)
     ("docs/erosion.md", "| no-slip | {} m, +6.2 %, at rest at 1.036 s", BED_MODELS,
      _flat("rectangle-glass-beads-no-slip-eta0.01-walls0.1", "runout_m"), ".4f", 1),
