@@ -352,7 +352,16 @@ def load(path: str | Path) -> Run:
 
 
 def check_solver(config: Config) -> None:
-    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
+    """PARDISO needs MKL, which only NGSolve can detect, and the fieldsplit solve needs
+    petsc4py and ngspetsc: checked before the run starts."""
+    if config.numerics.linear_solver == "fieldsplit":
+        from granflow.fem.fieldsplit import petsc_missing
+
+        missing = petsc_missing()
+        if missing is not None:
+            raise ConfigError(f"numerics.linear_solver = 'fieldsplit' needs petsc4py and "
+                              f"ngspetsc ({missing} does not import); install them "
+                              f"(docs/three_d.md) or use 'auto'")
     if config.numerics.linear_solver == "pardiso":
         from granflow.fem.linalg import pardiso_available
 
@@ -376,6 +385,8 @@ def solver_label(config: Config) -> str:
     from granflow.fem.linalg import direct_solver
 
     solver = direct_solver(config.numerics.linear_solver)
+    if solver == "fieldsplit":
+        return "PETSc fieldsplit GMRes (Schur selfp, GAMG)"
     if solver == "umfpack" and config.numerics.linear_solver == "auto":
         return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
     return solver.upper()
