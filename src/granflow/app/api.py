@@ -360,7 +360,7 @@ def check_solver(config: Config) -> None:
         missing = petsc_missing()
         if missing is not None:
             raise ConfigError(f"numerics.linear_solver = 'fieldsplit' needs petsc4py and "
-                              f"ngspetsc ({missing} does not import); install them "
+                              f"ngspetsc ({missing} is not installed); install them "
                               f"(docs/three_d.md) or use 'auto'")
     if config.numerics.linear_solver == "pardiso":
         from granflow.fem.linalg import pardiso_available

@@ -55,16 +55,15 @@ class LinearSolveFailed(RuntimeError):
 
 
 def petsc_missing() -> str | None:
-    """Why the fieldsplit solve cannot run here (petsc4py or ngspetsc not importable), or
-    None when it can."""
-    try:
-        import petsc4py.PETSc  # noqa: F401
-    except ImportError:
-        return "petsc4py"
-    try:
-        import ngsPETSc  # noqa: F401
-    except ImportError:
-        return "ngspetsc"
+    """Which of petsc4py and ngspetsc is not installed (None: both are). Found, not
+    imported: importing petsc4py initialises PETSc, collectively over the MPI ranks,
+    which rank 0 must not do alone while the others wait for its commands
+    (``fem/distributed_flow.py``); the first solve imports it on every rank at once."""
+    from importlib.util import find_spec
+
+    for module, name in (("petsc4py", "petsc4py"), ("ngsPETSc", "ngspetsc")):
+        if find_spec(module) is None:
+            return name
     return None
 
 
