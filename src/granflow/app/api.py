@@ -355,13 +355,10 @@ def check_solver(config: Config) -> None:
     """PARDISO needs MKL, which only NGSolve can detect, and the fieldsplit solve needs
     petsc4py and ngspetsc: checked before the run starts."""
     if config.numerics.linear_solver == "fieldsplit":
-        from granflow.fem.fieldsplit import petsc_missing
+        from granflow.fem.fieldsplit import refusal
 
-        missing = petsc_missing()
-        if missing is not None:
-            raise ConfigError(f"numerics.linear_solver = 'fieldsplit' needs petsc4py and "
-                              f"ngspetsc ({missing} is not installed); install them "
-                              f"(docs/three_d.md) or use 'auto'")
+        if (message := refusal()) is not None:
+            raise ConfigError(message)
     if config.numerics.linear_solver == "pardiso":
         from granflow.fem.linalg import pardiso_available
 

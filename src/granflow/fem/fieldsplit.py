@@ -67,6 +67,15 @@ def petsc_missing() -> str | None:
     return None
 
 
+def refusal() -> str | None:
+    """The one line refusing ``numerics.linear_solver = 'fieldsplit'`` here, or None."""
+    missing = petsc_missing()
+    if missing is None:
+        return None
+    return (f"numerics.linear_solver = 'fieldsplit' needs petsc4py and ngspetsc ({missing} "
+            "is not installed); install them (docs/three_d.md) or use 'auto'")
+
+
 def configure(ksp: Any, variant: str, velocity: Any, pressure: Any, mass: Any = None,
               steps: int = MAX_STEPS) -> None:
     """GMRes with the fieldsplit preconditioner of ``variant`` (``VARIANTS``) on ``ksp``,
