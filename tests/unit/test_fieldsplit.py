@@ -125,3 +125,38 @@ def test_a_solve_short_of_its_tolerance_fails() -> None:
     short.update()
     with pytest.raises(LinearSolveFailed, match="stopped after 2 steps"):
         short.solve(picard.f.vec, picard.f.vec.CreateVector())
+
+
+def test_the_time_loop_retries_a_failed_solve_smaller() -> None:
+    """A fieldsplit solve stopped short fails the step: rejected, then retried at half
+    the step (the loop's path for a solver error), not accepted."""
+    from granflow.fem.fieldsplit import LinearSolveFailed
+    from granflow.simulation.outcomes import IterationReport
+    from granflow.simulation.simulation import Simulation
+    from granflow.simulation.timestep import fixed_step
+
+    class FailingOnce:
+        def __init__(self) -> None:
+            self.attempts: list[float] = []
+
+        def solve_step(self, dt: float, tol: float, max_iterations: int,
+                       velocity_floor: float = 0.0) -> IterationReport:
+            self.attempts.append(dt)
+            if len(self.attempts) == 1:
+                raise LinearSolveFailed("the fieldsplit FGMRes stopped after 400 steps")
+            return IterationReport(converged=True, iterations=1, relative_change=0.0)
+
+        def local_error(self, dt: float) -> tuple[float, float] | None:
+            return None
+
+        def accept(self, dt: float | None = None) -> None: ...
+        def reject(self) -> None: ...
+        def restart_history(self) -> None: ...
+
+    solver = FailingOnce()
+    simulation = Simulation(solver=solver, steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                            t_end=2e-3, max_iterations=10)
+    result = simulation.run()
+    assert result.status == "completed"
+    assert result.rejections == {"exception": 1}
+    assert solver.attempts[:2] == [1e-3, 5e-4]
