@@ -13,6 +13,7 @@ checkpoint, the per-point friction of the primal-dual correction, and the output
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +21,6 @@ import pytest
 
 import granflow
 from granflow.config import load_config
-from granflow.io.checkpoint import read_checkpoint, write_checkpoint
-from granflow.io.run_dir import RunDir
-from granflow.io.run_state import SimulationState
 from granflow.physics.hysteresis import Hysteretic
 from granflow.scenarios.column import ColumnCollapse, build_column
 from granflow.scenarios.plug_flow import PlugFlow, build_plug_flow
@@ -34,6 +32,8 @@ INCLINE = ["mesh.size=0.00125", "time.dt=5e-3", "time.t_end=1.5", "time.output_t
            "numerics.linearization=primal-dual"]
 IN_MOTION = ["material.initial_mobilisation=1", "initial.shear_rate=10",
              "initial.plug_base=0"]          # u = 10 z: every cell sheared above 1 1/s
+
+Twins = Callable[..., tuple[ColumnCollapse, ...]]   # conftest.py: checkpoint_twins
 
 
 def incline(*overrides: str) -> PlugFlow:
@@ -129,22 +129,13 @@ def test_a_lengthened_layer_gets_the_state_of_material_at_rest_since_the_start()
     np.testing.assert_allclose(tracking.field.values[added], math.exp(-0.05 / 0.04), rtol=1e-14)
 
 
-def test_a_checkpoint_restores_the_state_and_the_run_goes_on_as_before(tmp_path: Path) -> None:
+def test_a_checkpoint_restores_the_state_and_the_run_goes_on_as_before(
+        tmp_path: Path, checkpoint_twins: Twins) -> None:
     """Through the checkpoint file (data only): s and its time come back exactly, and the
     restored run ends where the uninterrupted one does: s within 1e-3, u within 1e-3 of
     its largest value (a restored run with a constant friction differs from its
     uninterrupted twin by 2e-4: the nonlinear iteration's own history is not saved)."""
-    straight = column("time.t_end=0.04")
-    straight.simulation.run()
-    first = column("time.t_end=0.02")
-    first.simulation.run()
-    run_dir = RunDir.create(tmp_path / "run")
-    write_checkpoint(run_dir, SimulationState(loop=first.simulation.save_state(),
-                                              scenario=first.save_state(), outputs={}))
-    saved = read_checkpoint(run_dir.root)
-    twin = column("time.t_end=0.04")
-    twin.restore_state(saved.scenario)
-    twin.simulation.restore_state(saved.loop)
+    straight, first, twin = checkpoint_twins(column, tmp_path)
     assert first.mobilisation is not None and twin.mobilisation is not None
     np.testing.assert_array_equal(twin.mobilisation.field.values,
                                   first.mobilisation.field.values)

@@ -4,6 +4,7 @@ outputs, and the axisymmetric column and the column over a layer of the same law
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import ngsolve as ngs
@@ -12,15 +13,14 @@ import pytest
 
 import granflow
 from granflow.config import load_config
-from granflow.io.checkpoint import read_checkpoint, write_checkpoint
-from granflow.io.run_dir import RunDir
-from granflow.io.run_state import SimulationState
 from granflow.scenarios.column import ColumnCollapse, build_column
 from granflow.scenarios.fluidity import fluidity_of
 
 BEADS = ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
          "material.grain_diameter=0.00053", "mesh.size=0.04", "time.output_times=[]",
          "time.stop_at_rest=false"]
+
+Twins = Callable[..., tuple[ColumnCollapse, ...]]   # conftest.py: checkpoint_twins
 
 
 def column(*overrides: str, scenario: str = "rectangle-rigid") -> ColumnCollapse:
@@ -49,22 +49,12 @@ def test_the_column_fluidises_from_rest_and_the_fluidity_crosses_a_remesh() -> N
     assert total(problem) == pytest.approx(before, rel=0.06)
 
 
-def test_a_checkpoint_restores_the_fluidity(tmp_path: Path) -> None:
+def test_a_checkpoint_restores_the_fluidity(tmp_path: Path, checkpoint_twins: Twins) -> None:
     """Through the checkpoint file the fluidity comes back exactly, and the restored run
     ends where the uninterrupted one does: g within 5e-3 of its largest value (measured
     1.3e-3: the nonlinear iteration's own history is not saved, and g amplifies what the
     flow differs by, 2e-4 for a constant friction, tests/verification/test_hysteresis.py)."""
-    straight = column("time.t_end=0.04")
-    straight.simulation.run()
-    first = column("time.t_end=0.02")
-    first.simulation.run()
-    run_dir = RunDir.create(tmp_path / "run")
-    write_checkpoint(run_dir, SimulationState(loop=first.simulation.save_state(),
-                                              scenario=first.save_state(), outputs={}))
-    saved = read_checkpoint(run_dir.root)
-    twin = column("time.t_end=0.04")
-    twin.restore_state(saved.scenario)
-    twin.simulation.restore_state(saved.loop)
+    straight, first, twin = checkpoint_twins(column, tmp_path)
     g_first, g_twin = (fluidity_of(p.solver).previous.vec.FV().NumPy()     # type: ignore[union-attr]
                        for p in (first, twin))
     np.testing.assert_array_equal(g_twin, g_first)

@@ -6,8 +6,8 @@ stop tests) it runs its named callbacks (``simulation.callbacks[name]``,
 watches it: the parts of the problem that carry state along (an erodible layer, a
 mobilisation state), then the run's files that read it and the checkpoint; a script adds
 its own the same way. It knows no file format and no finite-element engine:
-the solver, the mesh motion and the remesher are protocols (``FlowStep``, ``MeshMotion``,
-``Remesher``), so the loop imports and runs without NGSolve.
+the solver, the mesh motion and the remesher are protocols (``simulation/parts.py``), so
+the loop imports and runs without NGSolve; the stall test is ``simulation/stall.py``.
 
 A step is accepted only when the move left a valid mesh, the nonlinear solve converged
 and the step policy accepts its local error; otherwise the move is undone and the step
@@ -31,7 +31,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar
 
 from granflow.simulation.outcomes import (
     Failure,
@@ -41,8 +41,10 @@ from granflow.simulation.outcomes import (
     RunResult,
 )
 from granflow.simulation.outputs import Callbacks
+from granflow.simulation.parts import FlowStep, MeshMotion, Remesher
 from granflow.simulation.remesh_errors import RemeshDefect, defect_message, mesher_failed
 from granflow.simulation.rest import RestCriterion
+from granflow.simulation.stall import STALL_STEPS, stall_check
 from granflow.simulation.timestep import (
     AdaptiveStep,
     LocalError,
@@ -64,41 +66,6 @@ from granflow.state.spec import (
 )
 
 
-class FlowStep(Protocol):
-    """The flow solver as the loop sees it (``fem/flow.py``'s FlowSolver): one implicit
-    step, its local error estimate, and accepting or undoing it."""
-
-    def solve_step(self, dt: float, tol: float, max_iterations: int,
-                   velocity_floor: float = 0.0) -> IterationReport: ...
-    def local_error(self, dt: float) -> tuple[float, float] | None: ...
-    def accept(self, dt: float | None = None) -> None: ...
-    def reject(self) -> None: ...
-    def restart_history(self) -> None: ...
-
-
-class MeshMotion(Protocol):
-    """Computes w^n, limits dt, moves the mesh, checks it, and can undo the move.
-
-    ``forcing_jumped`` says whether the move switched a boundary forcing on or off (the
-    numerical surface tension): the solution is then not smooth in time across the step.
-    """
-
-    def prepare(self, dt: float) -> float: ...
-    def move(self, dt: float) -> None: ...
-    def check(self) -> MoveFailure | None: ...
-    def undo(self) -> None: ...
-    def after_accept(self) -> None: ...
-    def forcing_jumped(self) -> bool: ...
-
-
-class Remesher(Protocol):
-    """Replaces the mesh (and with it solver and mesh motion) when it has degraded."""
-
-    def needs_remesh(self) -> bool: ...
-    def degraded(self) -> bool: ...
-    def remesh(self) -> None: ...
-
-
 class Rejection(Enum):
     """Why an attempted step was not accepted."""
 
@@ -108,15 +75,6 @@ class Rejection(Enum):
     ERROR = "the local time error exceeded its tolerance"
     EXCEPTION = "the solver raised an error"
 
-
-STALL_STEPS = 1000   # accepted steps that must advance t by at least one dt_max
-STALL_ADVICE = {     # by the most frequent failure while the run stalled (Rejection names)
-    "not_converged": "Try a larger numerics.max_iterations or numerics.linearization = "
-                     "'hybrid' or 'newton'",
-    "non_finite": "Try numerics.linearization = 'hybrid' or 'newton', or a larger numerics.eps",
-    "move": "Try a smaller mesh.size or a larger mesh.remesh_quality",
-    "exception": "See the rejections in summary.json",
-}
 
 StopCriterion = Callable[["Simulation"], str | None]
 
@@ -353,31 +311,13 @@ class Simulation:
         return f"Try a smaller {step_key} or mesh.size"
 
     def _stalled(self) -> str | None:
-        """A failure message when the last ``stall_steps`` accepted steps advanced t by less
-        than one dt_max while at least a tenth as many attempts were rejected for another
-        reason than the step error (the solve or the move failed): steps accepted only
-        because they are tiny (an iteration or a move that succeeds only at dt ~ 1e-9 s)
-        would otherwise crawl forever. Small steps the policy chose (a slow ramp, an error
-        controller far below dt_max) are left alone."""
+        """The stall test (``simulation/stall.py``) after an accepted step."""
         if self.stall_steps <= 0:
             return None
-        if self._window is None:
-            self._window = (self.step, self.t, dict(self.rejections))
-            return None
-        step0, t0, rejected0 = self._window
-        if self.step - step0 < self.stall_steps:
-            return None
-        self._window = (self.step, self.t, dict(self.rejections))
-        dt_max = min(getattr(self.steps_policy, "dt_max", 0.0), self.t_end - t0)
-        failed = {k: n - rejected0.get(k, 0) for k, n in self.rejections.items()
-                  if k != "error" and n > rejected0.get(k, 0)}
-        if self.t - t0 >= dt_max or 10 * sum(failed.values()) < self.step - step0:
-            return None
-        worst = max(failed, key=failed.__getitem__)
-        return (f"stalled at t = {self.t:.6g} s (step {self.step}): the last "
-                f"{self.step - step0} accepted steps advanced t by {self.t - t0:.3g} s, less "
-                f"than one dt_max ({dt_max:g} s), last dt = {self.dt:.3g} s, while attempts "
-                f"were rejected: {failed}. {STALL_ADVICE[worst]}")
+        self._window, message = stall_check(
+            self._window, self.stall_steps, self.step, self.t, self.dt, self.rejections,
+            getattr(self.steps_policy, "dt_max", 0.0), self.t_end)
+        return message
 
     def run(self) -> RunResult:
         self._start = time.perf_counter()
