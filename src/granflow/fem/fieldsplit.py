@@ -12,11 +12,11 @@ the velocity's rigid-body modes, the Schur complement by A11 - A10 diag(A00)^-1 
 
 Why not one GAMG cycle on the velocity inside left-preconditioned GMRes, the variant
 ``selfp-gamg`` that benchmarks/three_d_fieldsplit.py measured on the column's first
-systems: on the collapse's own systems (a few steps in, the viscosity spread over many
-decades) its preconditioned residual reached 1e-8 with the velocity still 1 % from the
-direct solve, or stagnated; the velocity solved to 1e-4 inside FGMRes at 1e-10 came within
-1e-5 (docs/three_d.md). A solve that stops short of its tolerance raises
-``LinearSolveFailed``: the time loop rejects the step and retries it smaller.
+systems: on the collapse's own systems a few steps in its preconditioned residual
+stagnated and the steps failed, while this variant ran them (docs/three_d.md, which also
+says where this one is still short of the direct solve). A solve that stops short of its
+tolerance raises ``LinearSolveFailed``: the time loop rejects the step and retries it
+smaller.
 
 petsc4py and ngspetsc are optional installs, imported when a solve is built.
 """
