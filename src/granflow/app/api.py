@@ -352,7 +352,13 @@ def load(path: str | Path) -> Run:
 
 
 def check_solver(config: Config) -> None:
-    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
+    """PARDISO needs MKL, which only NGSolve can detect, and the fieldsplit solve needs
+    petsc4py and ngspetsc: checked before the run starts."""
+    if config.numerics.linear_solver == "fieldsplit":
+        from granflow.fem.fieldsplit import refusal
+
+        if (message := refusal()) is not None:
+            raise ConfigError(message)
     if config.numerics.linear_solver == "pardiso":
         from granflow.fem.linalg import pardiso_available
 
@@ -376,6 +382,8 @@ def solver_label(config: Config) -> str:
     from granflow.fem.linalg import direct_solver
 
     solver = direct_solver(config.numerics.linear_solver)
+    if solver == "fieldsplit":
+        return "PETSc fieldsplit GMRes (Schur selfp, GAMG)"
     if solver == "umfpack" and config.numerics.linear_solver == "auto":
         return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
     return solver.upper()
