@@ -3,6 +3,7 @@ it: its processor time to rest and its profile, on one process or under ``mpiexe
 column between frictionless walls against the 2D plane-strain run.
 
 Run: python benchmarks/three_d_collapse.py rest [--size 0.04] [--ranks 1]
+         [--linear-solver fieldsplit] [--stop-at 0.1]
      python benchmarks/three_d_collapse.py plane-strain [--size 0.03] [--t-end 0.2]
          [--scenario rectangle-rigid|trapezoid-rigid] [--rheology drucker-prager|mu-i]
      python benchmarks/three_d_collapse.py channel [--size 0.04] [--slope 0] [--reuse]
@@ -13,7 +14,9 @@ the bed 25.5 deg, the back and side walls 10.2 deg) with ``geometry.dimension = 
 a 10 cm channel at mesh.size, run to rest. On one process the run is profiled (cProfile,
 the 20 functions of largest own processor time); with ``--ranks N`` it is ``mpiexec -n N granflow
 run`` and the processor time is that of all ranks (the waited-for children). Writes the
-summary's figures, processor seconds, peak memory and the profile.
+summary's figures, processor seconds, peak memory and the profile. ``--linear-solver``
+sets ``numerics.linear_solver`` and ``--stop-at`` ``time.t_end`` (a run stopped short of
+rest); both join the record's name.
 
 ``plane-strain``: the same rectangle in 2D and in 3D between two frictionless planes one
 mesh.size apart (``boundary.channel_width = none``), both to t_end with outputs at t_end/2
@@ -64,9 +67,18 @@ def _cpu(who: int) -> tuple[float, float]:
     return r.ru_utime + r.ru_stime, r.ru_maxrss / 1024.0
 
 
-def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, Any]:
-    sets = [*(CHANNEL[1:] if two_d else CHANNEL), f"mesh.size={size!r}"]
-    folder = out / (f"run2d_h{size:g}" if two_d else f"run_h{size:g}_n{ranks}")
+def rest_name(size: float, ranks: int, solver: str | None, stop: float | None) -> str:
+    """``h0.04_n1``, with ``_<solver>`` and ``_t<stop>`` when they are set."""
+    return (f"h{size:g}_n{ranks}" + (f"_{solver}" if solver else "")
+            + (f"_t{stop:g}" if stop else ""))
+
+
+def rest(size: float, ranks: int, out: Path, two_d: bool = False, solver: str | None = None,
+         stop: float | None = None) -> dict[str, Any]:
+    sets = [*(CHANNEL[1:] if two_d else CHANNEL), f"mesh.size={size!r}",
+            *([f"numerics.linear_solver={solver}"] if solver else []),
+            *([f"time.t_end={stop!r}"] if stop else [])]
+    folder = out / (f"run2d_h{size:g}" if two_d else f"run_{rest_name(size, ranks, solver, stop)}")
     load, wall = os.getloadavg(), time.perf_counter()
     if ranks == 1:
         profiler = cProfile.Profile(time.process_time)   # processor, not wall, seconds
@@ -100,6 +112,8 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False) -> dict[str, A
     figures |= {key: raw.get(key) for key in ("runout_wall_m", "runout_centre_m",
                                               "wall_height_m", "remeshes",
                                               "min_tetrahedron_quality")}
+    if solver:
+        figures |= {"linear_solver": raw.get("linear_solver"), "t_end": stop}
     return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "wall_s": wall,
             "load_average": load, "peak_mb": peak, **figures, "profile": top}
 
@@ -257,6 +271,11 @@ def main(argv: list[str] | None = None) -> int:
                         help="plane-strain: the column")
     parser.add_argument("--rheology", default="drucker-prager",
                         choices=("drucker-prager", "mu-i"), help="plane-strain: the law")
+    parser.add_argument("--linear-solver", default=None,
+                        choices=("auto", "umfpack", "pardiso", "fieldsplit"),
+                        help="rest: numerics.linear_solver (unset: the default)")
+    parser.add_argument("--stop-at", type=float, default=None,
+                        help="rest: time.t_end (unset: the scenario's, the run to rest)")
     parser.add_argument("--out", type=Path,
                         default=Path("benchmarks/results/three_d_collapse"))
     args = parser.parse_args(argv)
@@ -264,9 +283,9 @@ def main(argv: list[str] | None = None) -> int:
     runs = args.out / "runs"
     if args.case == "rest":
         size = args.size or 0.04
-        data = rest(size, args.ranks, runs, args.two_d)
-        name = (f"rest2d_h{size:g}.json" if args.two_d
-                else f"rest_h{size:g}_n{args.ranks}.json")
+        data = rest(size, args.ranks, runs, args.two_d, args.linear_solver, args.stop_at)
+        name = (f"rest2d_h{size:g}.json" if args.two_d else
+                f"rest_{rest_name(size, args.ranks, args.linear_solver, args.stop_at)}.json")
         print(f"{data['status']}: stop {data['stop_time_s']} s, runout {data['runout_m']:.4f}"
               f" m, {data['steps']} steps, {data['cpu_s']:.0f} s CPU, "
               f"{data['peak_mb']:.0f} MB")

@@ -28,14 +28,19 @@ Per case: converged or not, FGMRes steps, processor seconds of the set-up and th
 the relative distance to the direct solution. Writes fieldsplit_<state>_h<size>.json under
 --out; the prediction is benchmarks/results/three_d_krylov/PREDICTION_fieldsplit.md.
 
-``--ranks``: ``selfp-gamg`` alone on the mesh distributed by NGSolve over the ranks of
+``--ranks``: ``selfp-gamg`` (or ``--variant selfp-gamg-flexible``, granflow's solve)
+alone on the mesh distributed by NGSolve over the ranks of
 ``mpiexec`` (rank 0 keeps no element, as in ``three_d_krylov.py``), the matrix and the
 vectors handed to PETSc by ngspetsc (``Matrix``, ``VectorMapping``: PETSc spreads the rows
 evenly over the ranks), against NGSolve's direct solve (``masterinverse`` on more than one
 rank, UMFPACK on one); the processor seconds of each rank and the floating-point
 operations PETSc counts on it in the set-up and the solve, the velocity's and the
 pressure's L2 norms (to compare one rank with two). Writes
-fieldsplit_ranks_<state>_h<size>_n<ranks>.json.
+fieldsplit_ranks_<state>_h<size>_n<ranks>.json; with ``--rigid-modes`` GAMG is told the
+velocity's rigid-body modes (its near-null space, as granflow's
+``numerics.linear_solver = 'fieldsplit'`` does): fieldsplit_ranks_rigid_*.json, with
+``--variant selfp-gamg-flexible`` fieldsplit_ranks_flexible[_rigid]_*.json. The solver
+and the conversion are granflow's (``granflow.fem.fieldsplit``).
 """
 
 from __future__ import annotations
@@ -46,14 +51,7 @@ import sys
 import time
 from pathlib import Path
 
-TOL = 1e-8
-VARIANTS = {
-    "lsc-lu": {"schur": "self", "u": "lu", "p": "lsc"},
-    "lsc-gamg": {"schur": "self", "u": "gamg", "p": "lsc"},
-    "selfp-lu": {"schur": "selfp", "u": "lu", "p": "lu"},
-    "selfp-gamg": {"schur": "selfp", "u": "gamg", "p": "gamg"},
-    "mass-lu": {"schur": "user", "u": "lu", "p": "jacobi"},
-}
+from granflow.fem.fieldsplit import VARIANTS, PetscSystem, configure
 
 
 def petsc():
@@ -77,39 +75,6 @@ def to_petsc(PETSc, matrix, free):
         csr.indptr.astype(PETSc.IntType), csr.indices.astype(PETSc.IntType), csr.data))
     mat.assemble()
     return mat
-
-
-def configure(PETSc, ksp, variant: str, velocity, pressure, mass, steps: int) -> None:
-    """FGMRes with the fieldsplit preconditioner of ``variant`` (module docstring)."""
-    kind = VARIANTS[variant]
-    ksp.setType("gmres")             # left-preconditioned: the residual three_d_krylov.py judges
-    ksp.setGMRESRestart(steps)
-    ksp.setTolerances(rtol=TOL, atol=0.0, max_it=steps)
-    pc = ksp.getPC()
-    pc.setType("fieldsplit")
-    pc.setFieldSplitIS(("u", velocity), ("p", pressure))
-    pc.setFieldSplitType(PETSc.PC.CompositeType.SCHUR)
-    pc.setFieldSplitSchurFactType(PETSc.PC.FieldSplitSchurFactType.FULL)
-    pre = {"self": PETSc.PC.FieldSplitSchurPreType.SELF,
-           "selfp": PETSc.PC.FieldSplitSchurPreType.SELFP,
-           "user": PETSc.PC.FieldSplitSchurPreType.USER}[kind["schur"]]
-    pc.setFieldSplitSchurPreType(pre, mass if kind["schur"] == "user" else None)
-    options = PETSc.Options()
-    prefix = ksp.getOptionsPrefix() or ""
-    lsc = kind["p"] == "lsc"
-    for name, value in {"fieldsplit_u_ksp_type": "preonly", "fieldsplit_u_pc_type": kind["u"],
-                        "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": kind["p"],
-                        **({"fieldsplit_p_lsc_ksp_type": "preonly",
-                            "fieldsplit_p_lsc_pc_type": "lu"} if lsc else {})}.items():
-        options[prefix + name] = value
-    factors = [f"fieldsplit_{f}_" for f in ("u", "p") if kind[f] == "lu"]
-    for factor in factors + (["fieldsplit_p_lsc_"] if lsc else []):
-        # PETSc's zero-pivot test is relative to the row's sum: the contrast of 1 / eps in
-        # the weighted pressure blocks trips it, and LU needs no pivoting on these blocks
-        options[prefix + factor + "pc_factor_zeropivot"] = 0.0
-    if lsc:
-        options[prefix + "fieldsplit_p_pc_lsc_scale_diag"] = None
-    ksp.setFromOptions()
 
 
 def picard_system(state: str, size: float, eps: float, dt: float, comm):
@@ -170,7 +135,7 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
         ksp = PETSc.KSP().create()
         ksp.setOptionsPrefix(f"{variant.replace('-', '_')}_")
         ksp.setOperators(a)
-        configure(PETSc, ksp, variant, is_u, is_p, mass, steps)
+        configure(ksp, variant, is_u, is_p, mass, steps)
         x = b.duplicate()
         x.set(0.0)
         c0 = c1 = time.process_time()
@@ -203,13 +168,13 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
 
 
 def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
-                  steps: int, comm) -> dict:
+                  steps: int, comm, rigid_modes: bool = False,
+                  variant: str = "selfp-gamg") -> dict:
     """selfp + GAMG on the system distributed by NGSolve over the ranks of ``comm`` (None:
     one process), handed to PETSc by ngspetsc (a MATIS of the ranks' local matrices on the
     free dofs' global numbering, converted to MPIAIJ), against NGSolve's direct solve."""
     import ngsolve as ngs
     import numpy as np
-    from ngsPETSc import Matrix, VectorMapping
 
     ranks = 1 if comm is None else comm.size
     solver, matrix, rhs = picard_system(state, size, eps, dt, comm)
@@ -221,23 +186,14 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     direct_cpu = time.process_time() - c0
 
     c0 = time.process_time()
-    dofs = (space.ParallelDofs(), space.FreeDofs(), {"bsize": [1]})
-    a = Matrix(matrix, dofs).mat
-    mapping = VectorMapping(dofs)
-    # each global row's field: +1 velocity, -1 pressure, summed over the ranks sharing it
-    field = rhs.CreateVector()
-    field.FV().NumPy()[:] = np.where(np.arange(len(field)) < space.Range(0).stop, 1.0, -1.0)
-    sign = mapping.petscVec(field)
-    start = sign.getOwnershipRange()[0]
-    owned = start + np.arange(sign.getLocalSize(), dtype=PETSc.IntType)
-    is_u = PETSc.IS().createGeneral(owned[sign.getArray() > 0], comm=a.getComm())
-    is_p = PETSc.IS().createGeneral(owned[sign.getArray() < 0], comm=a.getComm())
-    b = mapping.petscVec(rhs)
+    petsc_system = PetscSystem(space, space.FreeDofs(), near_null_space=rigid_modes)
+    a = petsc_system.matrix(matrix)
+    b = petsc_system.vector(rhs)
     convert_cpu = time.process_time() - c0
     ksp = PETSc.KSP().create(comm=a.getComm())
-    ksp.setOptionsPrefix("ranks_selfp_gamg_")
+    ksp.setOptionsPrefix(f"ranks_{variant.replace('-', '_')}_")
     ksp.setOperators(a)
-    configure(PETSc, ksp, "selfp-gamg", is_u, is_p, None, steps)
+    configure(ksp, variant, petsc_system.velocity, petsc_system.pressure, None, steps)
     x = b.duplicate()
     x.set(0.0)
     f0, c0 = PETSc.Log.getFlops(), time.process_time()
@@ -246,7 +202,8 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     ksp.solve(b, x)
     c2, flops = time.process_time(), PETSc.Log.getFlops() - f0
     reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
-    out = mapping.ngsVec(x, rhs.CreateVector())
+    out = rhs.CreateVector()
+    petsc_system.back(x, out)
     difference = rhs.CreateVector()
     difference.data = out - exact
     distance = ngs.Norm(difference) / ngs.Norm(exact)
@@ -259,7 +216,8 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     flops_per_rank = [flops] if comm is None else comm.allgather(flops)
     ksp.destroy()
     return {"case": "column", "state": state, "size": size, "eps": eps, "dt": dt,
-            "variant": "selfp-gamg", **VARIANTS["selfp-gamg"], "ranks": ranks,
+            "variant": variant, **VARIANTS[variant], "ranks": ranks,
+            "rigid_modes": rigid_modes,
             "unknowns": space.ndofglobal, "free_unknowns": a.getSize()[0],
             "rows_per_rank": [] if comm is None else comm.allgather(a.getLocalSize()[0]),
             "converged": reason > 0, "reason": reason, "steps": iterations,
@@ -281,6 +239,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ranks", action="store_true",
                         help="selfp + GAMG on NGSolve's distributed system, through ngspetsc "
                              "(run under mpiexec; on one process: the reference)")
+    parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible"),
+                        default="selfp-gamg",
+                        help="with --ranks: the variant (selfp-gamg-flexible: granflow's "
+                             "numerics.linear_solver = 'fieldsplit'); records "
+                             "fieldsplit_ranks_flexible_*")
+    parser.add_argument("--rigid-modes", action="store_true",
+                        help="with --ranks: GAMG told the velocity's rigid-body modes "
+                             "(granflow's solve); records fieldsplit_ranks_rigid_*")
     args = parser.parse_args(argv)
     PETSc = petsc()
     if PETSc is None:
@@ -318,12 +284,15 @@ def ranks_mode(PETSc, args: argparse.Namespace) -> int:
     comm = world()
     for size in args.size:
         for state in args.state:
-            row = measure_ranks(PETSc, state, size, args.eps, args.dt, args.max_steps, comm)
+            row = measure_ranks(PETSc, state, size, args.eps, args.dt, args.max_steps, comm,
+                                args.rigid_modes, args.variant)
             if comm is None or comm.rank == 0:
                 print(json.dumps({k: row[k] for k in (
                     "state", "ranks", "free_unknowns", "converged", "steps",
                     "relative_difference", "velocity_l2", "cpu_s_per_rank")}), flush=True)
-                name = f"fieldsplit_ranks_{state}_h{size:g}_n{row['ranks']}.json"
+                kind = "ranks" + ("_flexible" if args.variant != "selfp-gamg" else "") + (
+                    "_rigid" if args.rigid_modes else "")
+                name = f"fieldsplit_{kind}_{state}_h{size:g}_n{row['ranks']}.json"
                 (args.out / name).write_text(json.dumps(row, indent=1) + "\n",
                                              encoding="utf-8")
     return 0

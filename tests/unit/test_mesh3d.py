@@ -7,7 +7,13 @@ import pytest
 
 from granflow.fem.measure import PLANE, SPACE
 from granflow.geometry.domains import column
-from granflow.geometry.mesh3d import channel_column_mesh, periodic_box_mesh
+from granflow.geometry.labels import SURFACE, SYMMETRY, WALL
+from granflow.geometry.mesh3d import (
+    ChannelSpan,
+    channel_column_mesh,
+    lofted_mesh,
+    periodic_box_mesh,
+)
 
 W = 0.1
 
@@ -63,3 +69,37 @@ def test_3d_coordinates_measure_the_body_in_cubic_metres() -> None:
         polygon.area * W * 0.07, rel=1e-12)                # the mean height is h0 / 2
     with pytest.raises(ValueError, match="3D body"):
         SPACE.polygon(np.zeros((3, 2)), np.array([[0, 1], [1, 2], [2, 0]]))
+
+
+# the two sections (X, Z) of a slab 2 cm thick that a plane-strain run lofted at 0.16 s (to
+# 0.1 mm): OCC's loft raises the tolerance of both end faces, so that their bounding boxes
+# reach about 1e-5 m off the planes Y = 0 and Y = 0.02
+SLAB_SECTIONS = [np.array(points) for points in (
+    [[0.0, 0.0], [0.2788, 0.0], [0.2682, 0.0158], [0.2564, 0.0308], [0.245, 0.0463],
+     [0.2308, 0.0591], [0.2151, 0.0701], [0.199, 0.0807], [0.1827, 0.0907],
+     [0.1658, 0.0999], [0.1484, 0.1081], [0.1308, 0.1156], [0.1129, 0.1225],
+     [0.0945, 0.1281], [0.076, 0.1332], [0.0573, 0.1375], [0.0384, 0.1404],
+     [0.0192, 0.1408], [0.0, 0.1403]],
+    [[0.0, 0.0], [0.2738, 0.0], [0.2682, 0.0156], [0.2561, 0.0305], [0.2449, 0.0461],
+     [0.2308, 0.0591], [0.2152, 0.0703], [0.1991, 0.0808], [0.1827, 0.0907],
+     [0.1659, 0.0999], [0.1485, 0.1081], [0.1308, 0.1156], [0.1129, 0.1225],
+     [0.0946, 0.1282], [0.0761, 0.1332], [0.0573, 0.1373], [0.0384, 0.1403],
+     [0.0192, 0.1409], [0.0, 0.1406]])]
+
+
+def test_a_lofted_body_labels_its_end_faces_whatever_their_tolerance() -> None:
+    """Each face of the loft lying on a bounding plane takes its label: the end faces are
+    the symmetry planes (each the section's area), the free surface is only the top (its
+    area the traces' length times the thickness, within the twist between them)."""
+    span = ChannelSpan.slab(0.02)
+    mesh = lofted_mesh(SLAB_SECTIONS, span, 0.02)
+    areas = {name: ngs.Integrate(ngs.CF(1.0), mesh, definedon=mesh.Boundaries(name))
+             for name in set(mesh.GetBoundaries())}
+    section = [0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], -1))
+                         - np.dot(p[:, 1], np.roll(p[:, 0], -1))) for p in SLAB_SECTIONS]
+    assert areas[SYMMETRY] == pytest.approx(sum(section), rel=1e-9)
+    top = [float(np.sum(np.linalg.norm(np.diff(p[1:], axis=0), axis=1)))
+           for p in SLAB_SECTIONS]
+    assert areas[SURFACE] == pytest.approx(0.02 * np.mean(top), rel=1e-2)
+    assert areas[WALL] == pytest.approx(0.02 * np.mean([p[-1, 1] for p in SLAB_SECTIONS]),
+                                        rel=1e-9)

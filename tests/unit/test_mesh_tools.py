@@ -294,3 +294,33 @@ def test_a_pocket_landed_on_covered_bed_is_seen_and_cut_before_meshing() -> None
     assert polygon_area(new.ngmesh.Coordinates(), BoundaryChain(new).segments) == (
         pytest.approx(polygon_area(xy, chain.segments), rel=1e-12))
     assert shape_quality(new).min() > 0.2
+
+
+def test_the_area_fix_holds_a_vertex_it_would_push_through_the_bed() -> None:
+    """A rolling nose's underside 1e-9 m above the bed and an area to restore after a remesh
+    lost a sliver: the plain fix pushes the underside under the bed (a move refused at any
+    step size); the fix holds those vertices and restores the area with the others. With
+    nothing pushed through, it is the plain fix to the last digit."""
+    from granflow.ale.free_surface import conserve_above, conserve_area
+
+    xy = np.array([(0.0, 0.0), (0.5, 0.0), (0.6, 1e-9), (0.7, 1e-9), (0.75, 0.004),
+                   (0.6, 0.01), (0.3, 0.05), (0.0, 0.1)])
+    ring = np.array([[i, (i + 1) % len(xy)] for i in range(len(xy))])
+    movable = np.arange(2, 7)
+    area = polygon_area(xy, ring)
+
+    def height(p: np.ndarray) -> np.ndarray:
+        return p[:, 1] + 1e-12
+
+    plain = xy.copy()
+    conserve_area(plain, ring, movable, area * (1 + 4e-6))
+    assert height(plain[2:4]).max() < 0                   # pushed through the bed
+    held = xy.copy()
+    conserve_above(held, ring, movable, area * (1 + 4e-6), height)
+    assert np.array_equal(held[2:4], xy[2:4])
+    assert polygon_area(held, ring) == pytest.approx(area * (1 + 4e-6), rel=1e-12)
+    for target in (area * (1 - 4e-6), area * (1 + 4e-6)):
+        shrunk, same = xy.copy(), xy.copy()
+        conserve_area(shrunk, ring, movable[2:], target)
+        conserve_above(same, ring, movable[2:], target, height)
+        assert np.array_equal(shrunk, same)

@@ -106,16 +106,8 @@ def test_between_frictionless_walls_the_runout_is_the_plane_strain_one(
     assert slab.summary.runout_m == pytest.approx(plane.summary.runout_m, rel=RUNOUT_REL)
 
 
-# 3D surface vertices land on every bounding plane they reach (the back wall too), and at
-# the second output the contact point on the back wall is 2.6 mm below the 2D one (1.3 mm
-# before that rule); every other point is within 1.9 mm
-BACK_WALL = ("the back wall's contact point at the second output, since 3D surface vertices "
-             "land on the back wall (docs/three_d.md)")
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("t", [TIMES[0], pytest.param(TIMES[1], marks=pytest.mark.xfail(
-    strict=True, reason=BACK_WALL))])
+@pytest.mark.parametrize("t", TIMES)
 def test_between_frictionless_walls_the_surface_is_the_plane_strain_one(
         plane_pair: tuple[Run, Run], t: float) -> None:
     """Within 2 mm at each output time, the front's foot (its last mesh.size) left out."""

@@ -35,7 +35,7 @@ from granflow.ale.free_surface import (
     BoundaryChain,
     PolygonMeasure,
     bed_overlaps,
-    conserve_area,
+    conserve_above,
     crossing_segments,
     overlap_pocket,
     pocket,
@@ -254,8 +254,8 @@ class ColumnMover(AleMover):
             if wanted == target:
                 break
             target = wanted
-            applied += conserve_area(xy, self.chain.segments, movable, target,
-                                     measure=self.measure)
+            applied += conserve_above(xy, self.chain.segments, movable, target, lambda p:
+                                      self.support.bed.height(p) + CROSS, measure=self.measure)
         self._fixed_to = target
         return applied
 

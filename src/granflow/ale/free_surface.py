@@ -209,6 +209,28 @@ def conserve_area(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray,
     return (measure.size(xy, segments) - before) / abs(target)
 
 
+def conserve_above(xy: np.ndarray, segments: np.ndarray, movable: np.ndarray, target: float,
+                   height: Callable[[np.ndarray], np.ndarray],
+                   measure: PolygonMeasure = AREA) -> float:
+    """``conserve_area``, holding where they were the vertices it would push through the bed
+    (``height`` below 0 after the fix, not before); the others carry the whole fix.
+
+    The fix's shift does not shrink with the step: after a remesh that lost a sliver's
+    area (a flat corner collapsed), it moves every free vertex by up to 5e-8 m at once,
+    and a rolling nose's underside lying 1e-9 m above a no-slip bed would be pushed under
+    it at every step size, each move refused. Where nothing is pushed through, the result
+    is ``conserve_area``'s, unchanged. Returns the relative change applied."""
+    start = xy[movable].copy()
+    below = height(start) < 0
+    while True:
+        applied = conserve_area(xy, segments, movable, target, measure=measure)
+        through = (height(xy[movable]) < 0) & ~below
+        if not through.any() or through.all():
+            return applied
+        xy[movable] = start
+        movable, start, below = movable[~through], start[~through], below[~through]
+
+
 def bed_overlaps(xy: np.ndarray, segments: np.ndarray, height: Callable[[np.ndarray], np.ndarray],
                  along: Callable[[np.ndarray], np.ndarray], tol: float) -> np.ndarray:
     """(k, 2) pairs of boundary segments lying on the bed (both ends within ``tol`` of it by

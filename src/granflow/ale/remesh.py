@@ -39,6 +39,7 @@ MIN_SURFACE_EDGE = 0.1  # surface vertices closer than this x mesh.size to a kep
 FOLD_GAP = 0.25  # a surface vertex this close (x its shortest edge) to another surface edge
 SNAP_CORNER = 0.2  # a bed vertex this close (x its edge) to a bed corner it passed is put on it
 SPIKE_RAD = 1e-3  # a boundary vertex whose two edges meet at a smaller angle is dropped
+TOUCH = 1e-9  # a surface vertex this close (x its shortest edge) to another surface edge
 
 
 def shape_quality(mesh: ngs.Mesh, stretch: LayerStretch = ISOTROPIC) -> np.ndarray:
@@ -121,7 +122,7 @@ def remesh(mesh: ngs.Mesh, size: float, edge_size: EdgeSize | None = None,
     keep = kept_boundary_vertices(loop_xy, labels, MIN_SURFACE_EDGE * size)
     points = [tuple(loop_xy[i]) for i in keep]
     edge_labels = [labels[i] for i in keep]  # the edge leaving a kept vertex keeps its label
-    points, edge_labels = drop_spikes(*close_folds(points, edge_labels))
+    points, edge_labels = drop_spikes(*close_folds(*drop_touching(points, edge_labels)))
     n = len(points)
     ring = _ring(n)
     pts = np.array(points, dtype=float)
@@ -269,6 +270,39 @@ def close_folds(points: list[tuple[float, float]], labels: list[str],
                 continue                  # never cut through a contact point or a wall
             keep = [k for k in range(n) if k not in drop]
             return close_folds([points[k] for k in keep], [labels[k] for k in keep], gap)
+    return points, labels
+
+
+def drop_touching(points: list[tuple[float, float]], labels: list[str],
+                  touch: float = TOUCH) -> tuple[list[tuple[float, float]], list[str]]:
+    """The boundary loop without the inner surface vertices that touch another surface edge.
+
+    A front folded twice (an overturned nose whose top runs back, then forward again under
+    itself) can bring a surface vertex onto the nose's underside (to 5e-15 m) without any
+    edge crossing: the domain is two lobes meeting at that point. Netgen cannot mesh a
+    boundary touching itself, and ``close_folds``, cutting the thin lobes' pockets one at a
+    time, can leave edges crossing there. The vertex's two edges lie on the touched edge's
+    material side, so between them is an air sector of the fold (or a tip of material):
+    dropping the vertex fills that sector's apex (cuts the tip), the triangle on its two
+    edges, and joins the lobes; the area fix restores the area it changed. Edges at the
+    vertex's neighbours are not touches but spikes (``drop_spikes``).
+    """
+    pts = np.asarray(points, dtype=float)
+    n = len(pts)
+    on_surface = np.array(labels) == SURFACE
+    start, d = pts, np.roll(pts, -1, axis=0) - pts          # edge j runs from j to j + 1
+    d2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    for i in range(n):
+        if not labels[i - 1] == labels[i] == SURFACE or n <= 4:
+            continue
+        edge = min(np.linalg.norm(pts[i] - pts[i - 1]), np.linalg.norm(pts[(i + 1) % n] - pts[i]))
+        s = np.clip(np.einsum("ij,ij->i", pts[i] - start, d) / d2, 0, 1)
+        touching = on_surface & (np.linalg.norm(pts[i] - (start + s[:, None] * d), axis=1)
+                                 < touch * edge)
+        touching[[(i - 2) % n, (i - 1) % n, i, (i + 1) % n]] = False
+        if touching.any():
+            keep = [k for k in range(n) if k != i]
+            return drop_touching([points[k] for k in keep], [labels[k] for k in keep], touch)
     return points, labels
 
 

@@ -28,6 +28,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from granflow.app.preflight import check_solver, note_cost, solver_label
 from granflow.config import (
     CUSTOM,
     Config,
@@ -349,36 +350,6 @@ def resume_case(path: str | Path,
 def load(path: str | Path) -> Run:
     """Open the run directory ``path`` (finished, failed, interrupted or still running)."""
     return Run(path)
-
-
-def check_solver(config: Config) -> None:
-    """PARDISO needs MKL, which only NGSolve can detect: checked before the run starts."""
-    if config.numerics.linear_solver == "pardiso":
-        from granflow.fem.linalg import pardiso_available
-
-        if not pardiso_available():
-            raise ConfigError("numerics.linear_solver = 'pardiso' needs Intel MKL (pip install "
-                              "mkl, x86-64 only); use 'auto' or 'umfpack'")
-
-
-def note_cost(config: Config) -> None:
-    """A ``ConfigNote`` before a run of more than an hour (``config/cost.py``)."""
-    from granflow.config.cost import cost_note
-    from granflow.config.messages import note
-
-    message = cost_note(config)
-    if message is not None:
-        note(message)
-
-
-def solver_label(config: Config) -> str:
-    """The direct solver the run will use, as logged once at its start."""
-    from granflow.fem.linalg import direct_solver
-
-    solver = direct_solver(config.numerics.linear_solver)
-    if solver == "umfpack" and config.numerics.linear_solver == "auto":
-        return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
-    return solver.upper()
 
 
 def fresh_folder(label: str) -> Path:

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from granflow import __version__
-from granflow.app.api import OK_STATUSES, RUNS_FOLDER, check_solver, fresh_folder
+from granflow.app.api import OK_STATUSES, RUNS_FOLDER, fresh_folder
 from granflow.app.converge import (
     DEFAULT_TOLERANCES,
     MAX_LEVELS,
@@ -37,6 +37,7 @@ from granflow.app.converge import (
     ConvergeError,
     parse_tolerances,
 )
+from granflow.app.preflight import check_solver
 from granflow.app.sweep import SweepError
 from granflow.config import (
     ConfigError,

@@ -313,7 +313,8 @@ class Numerics(_Section):
     velocity_floor: Annotated[float, Field(ge=0, le=1e3)]  # m/s, floor of ||u|| in (3.2)
     volume_correction: bool  # restore the initial area after each ALE move (column only)
     ale_extrapolation: bool  # mesh velocity of the extrapolated mid-step velocity (2nd order)
-    linear_solver: Literal["auto", "umfpack", "pardiso"]  # auto: PARDISO when MKL is there
+    linear_solver: Literal["auto", "umfpack", "pardiso",
+                           "fieldsplit"]  # auto: PARDISO when MKL is there; fieldsplit: 3D
     initial_guess: Literal["previous", "extrapolated", "auto"]  # first iterate of (3.2)
     anderson_depth: Annotated[int, Field(ge=0, le=10)]  # Anderson mixing of (3.2); 0 = off
     method: Literal["regularized", "augmented-lagrangian"]  # (2.13) with eps, or ALG2

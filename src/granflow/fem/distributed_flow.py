@@ -4,7 +4,10 @@ Under ``mpiexec -n N granflow ...`` rank 0 runs the program as one process would
 the ALE move, remeshing, every output and the checkpoint work on its whole (serial) mesh
 and fields. Only the flow's nonlinear solve (3.2), the costly part, is done on a copy of
 the mesh that NGSolve distributes over all ranks (``fem/mpi.py``; rank 0 holds no element
-and gathers the matrix for the direct solver, the others assemble). The other ranks serve
+and gathers the matrix for the direct solver, the others assemble; PETSc's fieldsplit solve,
+``fem/fieldsplit.py``, spreads its rows over all ranks instead). A fieldsplit solve that
+fails, fails on every rank: rank 0's loop rejects the step, the others wait for its next
+command. The other ranks serve
 rank 0 (``serve``): they receive their part of the mesh, then before each solve the moved
 vertices, the boundary labels (deposition changes them) and the mesh velocity, and
 whenever rank 0's history changes (the start, a remesh, a restored checkpoint) the
@@ -23,6 +26,7 @@ from typing import Any
 import ngsolve as ngs
 import numpy as np
 
+from granflow.fem.fieldsplit import FIELDSPLIT, LinearSolveFailed
 from granflow.fem.flow import FlowSolver
 from granflow.fem.flow_factory import build_flow
 from granflow.fem.flow_spec import FlowSpec
@@ -190,7 +194,8 @@ class DistributedFlow:
 
     def __init__(self, serial: FlowSolver, spec: FlowSpec) -> None:
         self.serial = serial
-        spec = replace(spec, solver=replace(spec.solver, linear_solver=MASTER_INVERSE))
+        if spec.solver.linear_solver != FIELDSPLIT:    # PETSc's solve is distributed itself
+            spec = replace(spec, solver=replace(spec.solver, linear_solver=MASTER_INVERSE))
         _send("build", spec)
         self.part = _Part(spec, serial)
 
@@ -265,7 +270,10 @@ def serve() -> None:
             continue
         assert part is not None
         action: Callable[[Any], Any] = getattr(part, command)
-        action(payload)
+        try:
+            action(payload)
+        except LinearSolveFailed:   # on every rank at once: rank 0's loop rejects the step
+            continue
 
 
 def release() -> None:

@@ -13,7 +13,7 @@ from functools import cache
 import ngsolve as ngs
 from pyngcore import Flags
 
-SOLVERS = ("auto", "umfpack", "pardiso")
+SOLVERS = ("auto", "umfpack", "pardiso", "fieldsplit")   # fieldsplit: fem/fieldsplit.py
 # NGSolve's direct solver of a matrix distributed over MPI ranks: gathered on rank 0 and
 # factorised there (benchmarks/three_d_solvers.py). It has no numeric refactorisation:
 # each update factorises afresh.

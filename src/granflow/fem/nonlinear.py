@@ -17,6 +17,7 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.fem.anderson import Anderson
+from granflow.fem.fieldsplit import FIELDSPLIT, FieldsplitSolve
 from granflow.fem.linalg import ReusableLU
 from granflow.simulation.outcomes import IterationReport
 
@@ -25,6 +26,15 @@ if TYPE_CHECKING:
 
 NEWTON_MIN_DAMPING = 1.0 / 64   # below this damping factor Newton has stalled
 PICARD_FALLBACK_ITERATIONS = 4  # fixed-point iterations run when Newton stalls
+
+
+def linear_solve(form: ngs.BilinearForm, freedofs: ngs.BitArray,
+                 solver: str) -> ReusableLU | FieldsplitSolve:
+    """The solve of ``form``'s matrix that ``numerics.linear_solver`` names: a sparse LU,
+    or PETSc's fieldsplit GMRes (``fem/fieldsplit.py``)."""
+    if solver == FIELDSPLIT:
+        return FieldsplitSolve(form, freedofs)
+    return ReusableLU(form, freedofs, solver)
 
 
 class FixedPointSystem:
@@ -41,7 +51,7 @@ class FixedPointSystem:
                  rhs_reads_iterate: bool = False) -> None:
         self.a, self.f, self.constant, self.correction = a, f, constant, correction
         self.rhs_reads_iterate = rhs_reads_iterate    # f is assembled at every iteration
-        self.lu = ReusableLU(a, freedofs, solver)
+        self.lu = linear_solve(a, freedofs, solver)
         self._rhs = f.vec.CreateVector()
 
     def prepare(self) -> None:
@@ -95,7 +105,7 @@ class ResidualSystem:
     def __init__(self, form: ngs.BilinearForm, freedofs: ngs.BitArray,
                  solver: str = "umfpack") -> None:
         self.form = form
-        self.lu = ReusableLU(form, freedofs, solver)
+        self.lu = linear_solve(form, freedofs, solver)
 
     def linearise(self, x: ngs.BaseVector) -> None:
         self.form.AssembleLinearization(x)

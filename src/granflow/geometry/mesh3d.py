@@ -31,7 +31,6 @@ LOFT_FAILURES: tuple[type[Exception], ...] = (*MESHER_FAILURES, OCCException)
 # how far (relative to the channel's width) a face's centre may lie off a plane and count on it
 _ON_PLANE = 1e-9
 ON_PLANE = 1e-9   # m: a vertex this close to a bounding plane is on it
-_IN_BOX = 1e-6   # m: OCC pads a face's bounding box by 1e-7 m; a face within it lies on a plane
 
 
 def periodic_box_mesh(length: float, width: float, height: float, size: float) -> ngs.Mesh:
@@ -142,7 +141,9 @@ def lofted_mesh(sections: list[np.ndarray], span: ChannelSpan, size: float) -> n
     of points, starting (0, 0) -> (X_front, 0) along the bed and ending on the back wall;
     Netgen meshes the loft (OCC's ThruSections) with edges of about ``size``. Faces are
     labelled by the plane they lie on (bed, back wall, the span's end faces), the rest is
-    free surface."""
+    free surface: a face lies on a plane when its vertices (the sections' points, exact)
+    do. Its bounding box does not say it: OCC pads it by the face's tolerance, which the
+    loft can raise past 1e-6 m on an end face."""
     ys = np.linspace(span.low, span.high, len(sections))
     wires = []
     for y, section in zip(ys, sections, strict=True):
@@ -151,11 +152,10 @@ def lofted_mesh(sections: list[np.ndarray], span: ChannelSpan, size: float) -> n
         wires.append(Wire([Segment(pts[i], pts[(i + 1) % n]) for i in range(n)]))
     solid = ThruSections(wires, solid=True)
     for face in solid.faces:
-        lo, hi = (np.array([c.x, c.y, c.z] if hasattr(c, "x") else c, dtype=float)
-                  for c in face.bounding_box)
+        corners = np.array([[v.p.x, v.p.y, v.p.z] for v in face.vertices])
         face.name = SURFACE
         for axis, value, label in span.planes():
-            if abs(lo[axis] - value) < _IN_BOX and abs(hi[axis] - value) < _IN_BOX:
+            if np.all(np.abs(corners[:, axis] - value) < ON_PLANE):
                 face.name = label
     return ngs.Mesh(OCCGeometry(solid).GenerateMesh(maxh=size))
 

@@ -1,0 +1,162 @@
+"""``numerics.linear_solver = 'fieldsplit'`` (``fem/fieldsplit.py``): refused in one line in
+2D and where petsc4py or ngspetsc is not installed (CI: neither is); where they are,
+one 3D Picard and one Newton system solved by it against the direct solve, and a solve
+stopped short of its tolerance raising ``LinearSolveFailed``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+from granflow.app.cli import main
+from granflow.config import ConfigError, load_config
+
+SETS_3D = ["geometry.dimension=3", "mesh.size=0.07", "boundary.channel_width=0.1",
+           "boundary.non_penetration=strong", "numerics.linear_solver=fieldsplit"]
+# The fieldsplit solution's distance to the direct one, relative, in the velocity's and
+# the pressure's Euclidean norms: FGMRes stops at a true relative residual of 1e-10 (the
+# velocity's inner solve at 1e-4); measured 4e-6 and 5e-6 on a collapse's system at
+# mesh.size = 0.04 (docs/three_d.md), so 1e-4 leaves room and still catches a wrong solve.
+AGREEMENT = 1e-4
+
+
+def test_refused_in_two_dimensions() -> None:
+    with pytest.raises(ConfigError, match=r"numerics.linear_solver = 'fieldsplit'.*3D"):
+        load_config("rectangle-rigid", ["numerics.linear_solver=fieldsplit"])
+
+
+def test_refused_in_one_line_without_petsc(monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    from granflow.fem import fieldsplit
+
+    monkeypatch.setattr(fieldsplit, "petsc_missing", lambda: "petsc4py")
+    code = main(["run", "rectangle-rigid", *(a for s in SETS_3D for a in ("--set", s)),
+                 "--out", str(tmp_path / "run"), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1
+    assert "numerics.linear_solver = 'fieldsplit' needs petsc4py and ngspetsc" in err
+    assert "'auto'" in err
+    assert not (tmp_path / "run" / "summary.json").exists()      # nothing computed
+
+
+def test_petsc_missing_names_what_is_not_installed() -> None:
+    from importlib.util import find_spec
+
+    from granflow.fem.fieldsplit import petsc_missing
+
+    installed = find_spec("petsc4py") is not None and find_spec("ngsPETSc") is not None
+    assert (petsc_missing() is None) == installed
+    if not installed:
+        assert petsc_missing() in ("petsc4py", "ngspetsc")
+
+
+def _flow(linearization: str):
+    """A 3D column's flow solver (fieldsplit) at a slumping state, ready to assemble."""
+    from granflow.fem.flow_factory import build_flow
+    from granflow.geometry.mesh3d import extruded_mesh
+    from granflow.scenarios.channel_setup import ChannelSetup
+
+    config = load_config("rectangle-rigid", [*SETS_3D,
+                                             f"numerics.linearization={linearization}"])
+    setup = ChannelSetup.of(config)
+    solver = build_flow(extruded_mesh(setup.section, setup.span, setup.size), setup.flow)
+    velocity, pressure = solver.solution.components
+    pressure.Set(1550 * 9.81 * (0.14 - ngs.z))
+    velocity.Set(ngs.CF((ngs.x * ngs.z, 0.0, -0.5 * ngs.z * ngs.z)) / (0.2 * 0.14)
+                 * ngs.IfPos(ngs.x - 0.1, 1.0, 0.1))
+    solver.previous.vec.data = solver.solution.vec
+    solver.scheme.begin_step(1e-3)
+    return solver
+
+
+def _apart(solver, a: ngs.BaseVector, b: ngs.BaseVector) -> list[float]:
+    split = solver.space.Range(0).stop
+    x, y = a.FV().NumPy(), b.FV().NumPy()
+    return [float(np.linalg.norm(x[s] - y[s]) / np.linalg.norm(y[s]))
+            for s in (slice(0, split), slice(split, None))]
+
+
+@pytest.mark.parametrize("system", ["picard", "newton"])
+def test_fieldsplit_solves_as_the_direct_solve(system: str) -> None:
+    pytest.importorskip("petsc4py")
+    pytest.importorskip("ngsPETSc")
+    from granflow.fem.fieldsplit import FieldsplitSolve
+    from granflow.fem.linalg import ReusableLU
+
+    solver = _flow(system)
+    nonlinear = solver.nonlinear
+    if system == "picard":
+        picard = nonlinear.picard_system
+        picard.prepare()
+        picard.assemble()
+        form, rhs = picard.a, picard.f.vec
+    else:
+        newton = nonlinear.newton_system
+        newton.form.AssembleLinearization(solver.solution.vec)
+        rhs = solver.solution.vec.CreateVector()
+        newton.residual(solver.solution.vec, rhs)
+        form = newton.form
+    lu = (picard if system == "picard" else newton).lu
+    assert isinstance(lu, FieldsplitSolve)
+    fieldsplit, direct = rhs.CreateVector(), rhs.CreateVector()
+    lu.update()
+    lu.solve(rhs, fieldsplit)
+    exact = ReusableLU(form, solver.space.FreeDofs(), "umfpack")
+    exact.update()
+    exact.solve(rhs, direct)
+    assert lu.steps > 0
+    assert max(_apart(solver, fieldsplit, direct)) < AGREEMENT
+
+
+def test_a_solve_short_of_its_tolerance_fails() -> None:
+    pytest.importorskip("petsc4py")
+    pytest.importorskip("ngsPETSc")
+    from granflow.fem.fieldsplit import FieldsplitSolve, LinearSolveFailed
+
+    solver = _flow("picard")
+    picard = solver.nonlinear.picard_system
+    picard.prepare()
+    picard.assemble()
+    short = FieldsplitSolve(picard.a, solver.space.FreeDofs(), max_steps=2)
+    short.update()
+    with pytest.raises(LinearSolveFailed, match="stopped after 2 steps"):
+        short.solve(picard.f.vec, picard.f.vec.CreateVector())
+
+
+def test_the_time_loop_retries_a_failed_solve_smaller() -> None:
+    """A fieldsplit solve stopped short fails the step: rejected, then retried at half
+    the step (the loop's path for a solver error), not accepted."""
+    from granflow.fem.fieldsplit import LinearSolveFailed
+    from granflow.simulation.outcomes import IterationReport
+    from granflow.simulation.simulation import Simulation
+    from granflow.simulation.timestep import fixed_step
+
+    class FailingOnce:
+        def __init__(self) -> None:
+            self.attempts: list[float] = []
+
+        def solve_step(self, dt: float, tol: float, max_iterations: int,
+                       velocity_floor: float = 0.0) -> IterationReport:
+            self.attempts.append(dt)
+            if len(self.attempts) == 1:
+                raise LinearSolveFailed("the fieldsplit FGMRes stopped after 400 steps")
+            return IterationReport(converged=True, iterations=1, relative_change=0.0)
+
+        def local_error(self, dt: float) -> tuple[float, float] | None:
+            return None
+
+        def accept(self, dt: float | None = None) -> None: ...
+        def reject(self) -> None: ...
+        def restart_history(self) -> None: ...
+
+    solver = FailingOnce()
+    simulation = Simulation(solver=solver, steps_policy=fixed_step(0.01, 1e-3, 1e-3),  # type: ignore[arg-type]
+                            t_end=2e-3, max_iterations=10)
+    result = simulation.run()
+    assert result.status == "completed"
+    assert result.rejections == {"exception": 1}
+    assert solver.attempts[:2] == [1e-3, 5e-4]
