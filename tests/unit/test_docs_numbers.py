@@ -253,6 +253,22 @@ def _study_gain(he: str, slope: int, t: str) -> Callable[[Any], float]:
 
 WALLS_STUDY = "erosion_slopes_walls/erosion_slopes.json"
 WALLS_STUDY_316 = "erosion_slopes_walls/erosion_slopes_316f20f.json"   # before the fold fixes
+FOUR = "glass-beads-no-slip-small-eta-walls/rectangle-5mm-0-4cells"   # four cells across
+
+
+def _four(key: str) -> Callable[[Any], float]:
+    """The level row over 5 mm with four cells across the layer, in the channel."""
+    return lambda data: data[FOUR][key]
+
+
+def _four_gain(t: str | None) -> Callable[[Any], float]:
+    """Its front minus the rigid twin's at ``t`` (at rest: None), in mm."""
+    def gain(data: Any) -> float:
+        rigid = data[f"{WALLS_VARIANT}-0mm-0"]
+        if t is None:
+            return 1e3 * (data[FOUR]["runout_m"] - rigid["runout_m"])
+        return 1e3 * (data[FOUR]["front_history"][t] - rigid["front_history"][t])
+    return gain
 WALLS_VARIANT = "glass-beads-no-slip-small-eta-walls/rectangle"
 NO_WALLS = json.loads((RESULTS / ETA_STUDY).read_text())
 WALLS_DATA = json.loads((RESULTS / WALLS_STUDY).read_text())
@@ -1497,6 +1513,27 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      _walls_ratio_at(19), ".2f", 1),
     ("docs/verification.md", "the 22° rigid twin, which failed at {} s, reaches", WALLS_STUDY_316,
      _walls("0", 22, "t_final"), ".3f", 1),
+    # --- the level row with four cells across the layer, in the 10 cm channel
+    ("docs/erosion.md", "Four cells: {} m, at rest", WALLS_STUDY, _four("runout_m"), ".4f", 1),
+    ("docs/erosion.md", "m, at rest\n  at {} s, ratio 1.051", WALLS_STUDY, _four("stop_time_s"),
+     ".3f", 1),
+    ("docs/erosion.md", "s, ratio {} (two cells:", WALLS_STUDY,
+     lambda d: d[FOUR]["runout_m"] / d[f"{WALLS_VARIANT}-0mm-0"]["runout_m"], ".3f", 1),
+    ("docs/erosion.md", "(two cells: {} m, 0.984 s, 1.048)", WALLS_STUDY,
+     _walls("5", 0, "runout_m"), ".4f", 1),
+    ("docs/erosion.md", "(two cells: 0.4741 m, {} s, 1.048)", WALLS_STUDY,
+     _walls("5", 0, "stop_time_s"), ".3f", 1),
+    ("docs/erosion.md", "(two cells: 0.4741 m, 0.984 s, {})", WALLS_STUDY, _walls_ratio,
+     ".3f", 1),
+    ("docs/erosion.md", "rigid twin's by +{} and +39 mm at 0.2", WALLS_STUDY, _four_gain("0.2"),
+     ".0f", 1),
+    ("docs/erosion.md", "by +24 and +{} mm at 0.2 and 0.3 s", WALLS_STUDY, _four_gain("0.3"),
+     ".0f", 1),
+    ("docs/erosion.md", "(two cells: +{} and\n  +36 mm)", WALLS_STUDY, _walls_gain(0, "0.2"),
+     ".0f", 1),
+    ("docs/erosion.md", "+22 and\n  +36 mm) and by +{} mm at rest", WALLS_STUDY,
+     _four_gain(None), ".0f", 1),
+    ("docs/erosion.md", "mm at rest (+{} mm).", WALLS_STUDY, _walls_gain(0, None), ".0f", 1),
     # --- the rows at 10 and 16 degrees in the 10 cm channel
     ("docs/erosion.md", "| rigid bed | {} m, at rest at 1.310 s (its front", WALLS_STUDY,
      _walls("0", 10, "runout_m"), ".4f", 1),
