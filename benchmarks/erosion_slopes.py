@@ -114,6 +114,17 @@ VARIANTS = {
     "drucker-prager-no-slip-small-eta-walls": ["boundary.bed=no-slip",
                                                "material.viscosity=0.01",
                                                "boundary.channel_width=0.1"],
+    # rigid rows only: the column 14.5 cm high, as much material at the gate as a column
+    # standing on a 5 mm layer (the layer under its footprint): that share of a layer
+    # row's gain on the level bed
+    "glass-beads-no-slip-small-eta-walls-taller": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                                   "material.viscosity=0.01",
+                                                   "boundary.channel_width=0.1",
+                                                   "geometry.height=0.145"],
+    "drucker-prager-no-slip-small-eta-walls-taller": ["boundary.bed=no-slip",
+                                                      "material.viscosity=0.01",
+                                                      "boundary.channel_width=0.1",
+                                                      "geometry.height=0.145"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
