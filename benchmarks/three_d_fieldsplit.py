@@ -51,7 +51,7 @@ import sys
 import time
 from pathlib import Path
 
-from granflow.fem.fieldsplit import VARIANTS, PetscSystem, configure
+from granflow.fem.fieldsplit import TOLERANCE, VARIANTS, configure
 
 
 def petsc():
@@ -167,18 +167,35 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
     return rows
 
 
+def schur_of(solver, form_space):
+    """The Cahouet-Chabard forms at the solver's iterate (``fieldsplit_parts``)."""
+    from granflow.fem.fieldsplit_parts import schur_forms
+    from granflow.fem.forms import BackwardDifferenceInertia, Inertia, ViscoplasticStress
+
+    stress = next(t for t in solver.terms if isinstance(t, ViscoplasticStress))
+    inertia = next(t for t in solver.terms if isinstance(t, (Inertia, BackwardDifferenceInertia)))
+    m = stress.viscosity(*solver.solution.components)
+    return schur_forms(form_space, m, inertia.dt / inertia.density, solver.coordinates)
+
+
 def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
                   steps: int, comm, rigid_modes: bool = False,
-                  variant: str = "selfp-gamg") -> dict:
-    """selfp + GAMG on the system distributed by NGSolve over the ranks of ``comm`` (None:
-    one process), handed to PETSc by ngspetsc (a MATIS of the ranks' local matrices on the
-    free dofs' global numbering, converted to MPIAIJ), against NGSolve's direct solve."""
+                  variant: str = "selfp-gamg", scaled: bool = False,
+                  tolerance: float = TOLERANCE, history_wanted: bool = False) -> dict:
+    """A fieldsplit variant (granflow's ``FieldsplitSolve``) on the system distributed by
+    NGSolve over the ranks of ``comm`` (None: one process), handed to PETSc by ngspetsc (a
+    MATIS of the ranks' local matrices on the free dofs' global numbering, converted to
+    MPIAIJ), against NGSolve's direct solve; with one process, the true relative residual
+    and the distance to the direct solve after every GMRes step (``history``)."""
     import ngsolve as ngs
     import numpy as np
+
+    from granflow.fem.fieldsplit import FieldsplitSolve
 
     ranks = 1 if comm is None else comm.size
     solver, matrix, rhs = picard_system(state, size, eps, dt, comm)
     space = solver.space
+    form = solver.nonlinear.picard_system.a
     c0 = time.process_time()
     exact = rhs.CreateVector()
     exact.data = matrix.Inverse(space.FreeDofs(),
@@ -186,44 +203,77 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     direct_cpu = time.process_time() - c0
 
     c0 = time.process_time()
-    petsc_system = PetscSystem(space, space.FreeDofs(), near_null_space=rigid_modes)
-    a = petsc_system.matrix(matrix)
-    b = petsc_system.vector(rhs)
-    convert_cpu = time.process_time() - c0
-    ksp = PETSc.KSP().create(comm=a.getComm())
-    ksp.setOptionsPrefix(f"ranks_{variant.replace('-', '_')}_")
-    ksp.setOperators(a)
-    configure(ksp, variant, petsc_system.velocity, petsc_system.pressure, None, steps)
-    x = b.duplicate()
-    x.set(0.0)
-    f0, c0 = PETSc.Log.getFlops(), time.process_time()
+    schur = schur_of(solver, space) if VARIANTS[variant]["p"] == "shell" else None
+    solve = FieldsplitSolve(form, space.FreeDofs(), near_null_space=rigid_modes,
+                            max_steps=steps, variant=variant, scaled=scaled, schur=schur,
+                            tolerance=tolerance)
+    f0 = PETSc.Log.getFlops()
+    solve.update()
+    ksp = solve.ksp
+    system = solve._system
+    a = system.matrix(matrix)
+    b = system.vector(rhs)
+    history: list[list[float]] = []
+    split = space.Range(0).stop
+    free = np.array(list(space.FreeDofs()), dtype=bool)
+    fields = (np.arange(len(free)) < split)[free]
+
+    def apart(x) -> list[float]:
+        """The velocity's and the pressure's relative distances to the direct solve."""
+        got, want = x.getArray(), system.vector(exact).getArray()
+        return [float(np.linalg.norm(got[f] - want[f]) / np.linalg.norm(want[f]))
+                for f in (fields, ~fields)]
+
+    def monitor(ksp, its, rnorm) -> None:
+        x = solve.unscaled(ksp.buildSolution())
+        r = b.duplicate()
+        a.mult(x, r)
+        r.aypx(-1.0, b)
+        history.append([its, rnorm, r.norm() / b.norm(), *apart(x)])
+
+    if comm is None and history_wanted:
+        ksp.setMonitor(monitor)
     ksp.setUp()
-    c1 = time.process_time()
-    ksp.solve(b, x)
-    c2, flops = time.process_time(), PETSc.Log.getFlops() - f0
-    reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
+    c2 = time.process_time()
     out = rhs.CreateVector()
-    petsc_system.back(x, out)
+    try:
+        solve.solve(rhs, out)
+        failure = None
+    except Exception as error:            # LinearSolveFailed: keep the record
+        failure = str(error)
+    c3, flops = time.process_time(), PETSc.Log.getFlops() - f0
+    reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
+    if failure is not None:
+        x = solve.unscaled(ksp.getSolution().copy())
+        system.back(x, out)
     difference = rhs.CreateVector()
     difference.data = out - exact
     distance = ngs.Norm(difference) / ngs.Norm(exact)
+    x = system.vector(out)
+    r = b.duplicate()
+    a.mult(x, r)
+    r.aypx(-1.0, b)
+    per_field = apart(x) if comm is None else []
     solution = ngs.GridFunction(space)
     solution.vec.data = out
     u, p = solution.components
     norms = [float(np.sqrt(ngs.Integrate(f * f, space.mesh))) for f in (u, p)]
-    cpu = {"direct": direct_cpu, "convert": convert_cpu, "setup": c1 - c0, "solve": c2 - c1}
+    cpu = {"direct": direct_cpu, "convert_setup": c2 - c0, "solve": c3 - c2}
     per_rank = [cpu] if comm is None else comm.allgather(cpu)
     flops_per_rank = [flops] if comm is None else comm.allgather(flops)
-    ksp.destroy()
+    solve.reset()
     return {"case": "column", "state": state, "size": size, "eps": eps, "dt": dt,
             "variant": variant, **VARIANTS[variant], "ranks": ranks,
-            "rigid_modes": rigid_modes,
+            "rigid_modes": rigid_modes, "scaled": scaled, "tolerance": tolerance,
             "unknowns": space.ndofglobal, "free_unknowns": a.getSize()[0],
             "rows_per_rank": [] if comm is None else comm.allgather(a.getLocalSize()[0]),
             "converged": reason > 0, "reason": reason, "steps": iterations,
             "relative_difference": distance,
+            "velocity_pressure_difference": per_field,
+            "true_relative_residual": r.norm() / b.norm(),
             "velocity_l2": norms[0], "pressure_l2": norms[1],
-            "cpu_s_per_rank": per_rank, "petsc_flops_per_rank": flops_per_rank}
+            "cpu_s_per_rank": per_rank, "petsc_flops_per_rank": flops_per_rank,
+            "history": history}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -239,7 +289,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ranks", action="store_true",
                         help="selfp + GAMG on NGSolve's distributed system, through ngspetsc "
                              "(run under mpiexec; on one process: the reference)")
-    parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible"),
+    parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible",
+                                              "lsc-gamg-flexible", "cahouet-chabard"),
                         default="selfp-gamg",
                         help="with --ranks: the variant (selfp-gamg-flexible: granflow's "
                              "numerics.linear_solver = 'fieldsplit'); records "
@@ -247,7 +298,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rigid-modes", action="store_true",
                         help="with --ranks: GAMG told the velocity's rigid-body modes "
                              "(granflow's solve); records fieldsplit_ranks_rigid_*")
+    parser.add_argument("--scaled", action="store_true",
+                        help="with --ranks: the system scaled by its diagonal "
+                             "(granflow.fem.fieldsplit_parts.scaling); records *_scaled_*")
+    parser.add_argument("--tolerance", type=float, default=TOLERANCE,
+                        help="with --ranks and a flexible variant: FGMRes' true relative "
+                             "residual; records *_tol<value>_* unless the default")
+    parser.add_argument("--table", action="store_true",
+                        help="print the table of the FGMRes variants' records in --out "
+                             "(steps at 973 / 5,414 / 18,192 unknowns, largest distance)")
+    parser.add_argument("--history", action="store_true",
+                        help="with --ranks on one process: the true relative residual and "
+                             "the distance to the direct solve after every step (the "
+                             "processor times then include computing them)")
     args = parser.parse_args(argv)
+    if args.table:
+        print(table(args.out))
+        return 0
     PETSc = petsc()
     if PETSc is None:
         print("three_d_fieldsplit.py needs petsc4py (pip install petsc petsc4py); "
@@ -271,6 +338,47 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+TABLE_KINDS = {"selfp, unscaled": "ranks_flexible_rigid",
+               "selfp, scaled": "ranks_flexible_rigid_scaled",
+               "Cahouet-Chabard, unscaled": "ranks_cahouet-chabard_rigid",
+               "Cahouet-Chabard, scaled": "ranks_cahouet-chabard_rigid_scaled",
+               "LSC, unscaled": "ranks_lsc-gamg-flexible_rigid",
+               "LSC, scaled": "ranks_lsc-gamg-flexible_rigid_scaled"}
+TABLE_SIZES = ("0.04", "0.02", "0.014")
+
+
+def table_cell(folder: Path, kind: str, state: str) -> str:
+    """Outer steps at each size ("fails" where a solve did not converge) and the largest
+    relative distance of the velocity or the pressure to the direct solve, one process."""
+    steps, apart = [], []
+    for size in TABLE_SIZES:
+        path = folder / f"fieldsplit_{kind}_{state}_h{size}_n1.json"
+        if not path.exists():
+            continue
+        record = json.loads(path.read_text())
+        steps.append(str(record["steps"]) if record["converged"] else "fails")
+        apart.append(max(record["velocity_pressure_difference"]))
+    return " / ".join(steps) + (f" ({max(apart):.0e})" if apart else "")
+
+
+def table(folder: Path) -> str:
+    """The Markdown table of the FGMRes variants (``TABLE_KINDS``) by state."""
+    lines = ["| variant | rest | flowing | front |", "|---|---|---|---|"]
+    for name, kind in TABLE_KINDS.items():
+        lines.append(f"| {name} | " + " | ".join(table_cell(folder, kind, state) for state
+                                                  in ("rest", "flowing", "front")) + " |")
+    return "\n".join(lines)
+
+
+def stopping(record: dict, target: float = 1e-6) -> dict:
+    """From a record's ``history``: the first step where the velocity and the pressure are
+    both within ``target`` of the direct solve, and the true relative residual then."""
+    for its, _, residual, *apart in record["history"]:
+        if max(apart) < target:
+            return {"step": its, "true_relative_residual": residual}
+    return {"step": None, "true_relative_residual": None}
+
+
 def ranks_mode(PETSc, args: argparse.Namespace) -> int:
     """``--ranks``: one record per size and state, written by rank 0."""
     from three_d_krylov import world
@@ -285,13 +393,18 @@ def ranks_mode(PETSc, args: argparse.Namespace) -> int:
     for size in args.size:
         for state in args.state:
             row = measure_ranks(PETSc, state, size, args.eps, args.dt, args.max_steps, comm,
-                                args.rigid_modes, args.variant)
+                                args.rigid_modes, args.variant, args.scaled, args.tolerance,
+                                args.history)
             if comm is None or comm.rank == 0:
                 print(json.dumps({k: row[k] for k in (
                     "state", "ranks", "free_unknowns", "converged", "steps",
-                    "relative_difference", "velocity_l2", "cpu_s_per_rank")}), flush=True)
-                kind = "ranks" + ("_flexible" if args.variant != "selfp-gamg" else "") + (
-                    "_rigid" if args.rigid_modes else "")
+                    "relative_difference", "velocity_pressure_difference",
+                    "true_relative_residual", "cpu_s_per_rank")}), flush=True)
+                kind = "ranks" + {"selfp-gamg": "", "selfp-gamg-flexible": "_flexible"}.get(
+                    args.variant, "_" + args.variant) + (
+                    "_rigid" if args.rigid_modes else "") + (
+                    "_scaled" if args.scaled else "") + (
+                    "" if args.tolerance == TOLERANCE else f"_tol{args.tolerance:g}")
                 name = f"fieldsplit_{kind}_{state}_h{size:g}_n{row['ranks']}.json"
                 (args.out / name).write_text(json.dumps(row, indent=1) + "\n",
                                              encoding="utf-8")

@@ -127,6 +127,36 @@ def test_a_solve_short_of_its_tolerance_fails() -> None:
         short.solve(picard.f.vec, picard.f.vec.CreateVector())
 
 
+def test_the_krylov_work_combines_over_solves_and_a_direct_solve_has_none() -> None:
+    from granflow.fem.fieldsplit import KRYLOV_KEYS, combined_work
+
+    first = dict(zip(KRYLOV_KEYS, (30, 3, 12), strict=True))
+    second = dict(zip(KRYLOV_KEYS, (50, 2, 40), strict=True))
+    assert combined_work({}, first, {}, second) == dict(
+        zip(KRYLOV_KEYS, (80, 5, 40), strict=True))
+    assert combined_work({}, {}) == {}
+
+
+def test_a_fieldsplit_run_writes_its_krylov_work(tmp_path: Path) -> None:
+    """summary.json of a fieldsplit run holds its GMRes steps, its solves and the most
+    steps of one solve; every solve took at least one step and at most the limit."""
+    pytest.importorskip("petsc4py")
+    pytest.importorskip("ngsPETSc")
+    import json
+
+    from granflow.fem.fieldsplit import MAX_STEPS
+
+    code = main(["run", "rectangle-rigid", *(a for s in SETS_3D for a in ("--set", s)),
+                 "--set", "time.t_end=0.002", "--out", str(tmp_path / "run"), "--quiet"])
+    assert code == 0
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    steps, solves, largest = (summary[k] for k in (
+        "krylov_iterations", "krylov_solves", "krylov_largest"))
+    assert solves >= summary["nonlinear_iterations"] > 0
+    assert solves <= steps <= solves * largest
+    assert 0 < largest <= MAX_STEPS
+
+
 def test_the_time_loop_retries_a_failed_solve_smaller() -> None:
     """A fieldsplit solve stopped short fails the step: rejected, then retried at half
     the step (the loop's path for a solver error), not accepted."""
