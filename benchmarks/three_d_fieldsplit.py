@@ -314,6 +314,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.table:
         print(table(args.out))
+        ranges = {name: stopping(args.out, kind) for name, kind in TABLE_KINDS.items()}
+        (args.out / "table.json").write_text(json.dumps(
+            {"table": table(args.out), "within_1e-6": ranges}, indent=1) + "\n",
+            encoding="utf-8")
         return 0
     PETSc = petsc()
     if PETSc is None:
@@ -370,13 +374,32 @@ def table(folder: Path) -> str:
     return "\n".join(lines)
 
 
-def stopping(record: dict, target: float = 1e-6) -> dict:
-    """From a record's ``history``: the first step where the velocity and the pressure are
-    both within ``target`` of the direct solve, and the true relative residual then."""
-    for its, _, residual, *apart in record["history"]:
-        if max(apart) < target:
-            return {"step": its, "true_relative_residual": residual}
-    return {"step": None, "true_relative_residual": None}
+def stopping(folder: Path, kind: str, target: float = 1e-6) -> dict:
+    """From the ``history`` of a variant's records (every state and size): at the first
+    step where the velocity and the pressure are both within ``target`` of the direct
+    solve, the range of FGMRes' own relative residual (of the system it solves: scaled
+    or not) and of the unscaled system's true relative residual; the largest distance at
+    the first step where FGMRes' own relative residual is below 1e-8, and at the end."""
+    own, true, apart, at_1e8 = [], [], [], []
+    for path in sorted(folder.glob(f"fieldsplit_{kind}_*_n1.json")):
+        record = json.loads(path.read_text())
+        if not any(path.name == f"fieldsplit_{kind}_{state}_h{size}_n1.json"
+                   for state in ("rest", "flowing", "front") for size in TABLE_SIZES):
+            continue
+        history = record["history"]
+        apart.append(max(record["velocity_pressure_difference"]))
+        first = next((h for h in history if max(h[3:]) < target), None)
+        if first is not None:
+            own.append(first[1] / history[0][1])
+            true.append(first[2])
+        below = next((h for h in history if h[1] / history[0][1] < 1e-8), None)
+        if below is not None:
+            at_1e8.append(max(below[3:]))
+    return {"records": len(apart), "reached": len(own),
+            "own_residual": [min(own), max(own)] if own else None,
+            "true_residual": [min(true), max(true)] if true else None,
+            "largest_distance_at_1e-8": max(at_1e8) if at_1e8 else None,
+            "largest_distance": max(apart) if apart else None}
 
 
 def ranks_mode(PETSc, args: argparse.Namespace) -> int:

@@ -3,20 +3,23 @@
 
 The matrix goes to PETSc through ngspetsc (a MATIS of the ranks' local matrices on the free
 degrees of freedom's global numbering, converted to AIJ; on one process the free rows and
-columns as they are), the velocity and pressure rows as two index sets. Flexible GMRes
-(FGMRes, unrestarted, modified Gram-Schmidt), judged on the true relative residual
-``TOLERANCE``, preconditioned by the Schur complement factorisation ``full``: the velocity
-block by GMRes to ``VELOCITY_TOLERANCE`` preconditioned by algebraic multigrid (GAMG) told
-the velocity's rigid-body modes, the Schur complement by A11 - A10 diag(A00)^-1 A01
-(``selfp``) with one GAMG cycle. Every part is distributed.
+columns as they are), the velocity and pressure rows as two index sets. The system is
+scaled symmetrically by its diagonal (``fieldsplit_parts.scaling``: unscaled, the rigid
+cells' rows, 1 / eps times the flowing ones', are all the residual's norm sees). Flexible
+GMRes (FGMRes, unrestarted, modified Gram-Schmidt), judged on the scaled system's true
+relative residual ``TOLERANCE``, preconditioned by the Schur complement factorisation
+``full``: the velocity block by GMRes to ``VELOCITY_TOLERANCE`` preconditioned by
+algebraic multigrid (GAMG) told the velocity's rigid-body modes, the Schur complement by
+A11 - A10 diag(A00)^-1 A01 (``selfp``) with one GAMG cycle. Every part is distributed.
+``VARIANTS`` holds the others benchmarks/three_d_fieldsplit.py measures (the
+Cahouet-Chabard and the least-squares commutator Schur preconditioners among them);
+docs/three_d.md gives the measurements and why this one.
 
-Why not one GAMG cycle on the velocity inside left-preconditioned GMRes, the variant
-``selfp-gamg`` that benchmarks/three_d_fieldsplit.py measured on the column's first
-systems: on the collapse's own systems a few steps in its preconditioned residual
-stagnated and the steps failed, while this variant ran them (docs/three_d.md, which also
-says where this one is still short of the direct solve). A solve that stops short of its
-tolerance raises ``LinearSolveFailed``: the time loop rejects the step and retries it
-smaller.
+Why not one GAMG cycle on the velocity inside left-preconditioned GMRes (``selfp-gamg``):
+on the collapse's own systems a few steps in its preconditioned residual stagnated and the
+steps failed, while the inner velocity solve inside FGMRes ran them. A solve that stops
+short of its tolerance raises ``LinearSolveFailed``: the time loop rejects the step and
+retries it smaller.
 
 petsc4py and ngspetsc are optional installs, imported when a solve is built.
 """
