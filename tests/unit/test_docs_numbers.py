@@ -665,6 +665,9 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "in residual ({} steps) leaves the velocity", KRYLOV_PLUG,
      "[eps=1e-06&schur=cahouet-chabard].gmres_steps", "d", 1),
     # --- the scaled fieldsplit solve (benchmarks/three_d_fieldsplit.py --scaled)
+    ("docs/three_d.md", "the scaled solve takes the direct run's {} steps and 111", SCALED_N1,
+     "steps", "d", 1),
+    ("docs/three_d.md", "Run on to t_end = {} s (`--stop-at 0.1`", SCALED_N1_01, "t_end", "g", 1),
     ("docs/three_d.md", "again takes the direct run's {} steps and 190", SCALED_N1_01, "steps",
      "d", 1),
     ("docs/three_d.md", "{} nonlinear\niterations, its fronts within 6.3e-12", SCALED_N1_01,

@@ -158,6 +158,31 @@ def test_a_fieldsplit_run_writes_its_krylov_work(tmp_path: Path) -> None:
     assert 0 < largest <= MAX_STEPS
 
 
+def test_the_solver_of_a_new_mesh_carries_the_krylov_work_on() -> None:
+    """After a remesh the new flow solver's counts start from the old one's (``inherit``;
+    here the "new mesh" is the same one, the fields copied)."""
+    pytest.importorskip("petsc4py")
+    pytest.importorskip("ngsPETSc")
+    from granflow.fem.coupling import Carriers
+
+    old = _flow("picard")
+    picard = old.nonlinear.picard_system
+    picard.prepare()
+    picard.assemble()
+    picard.lu.update()
+    picard.lu.solve(picard.f.vec, picard.f.vec.CreateVector())
+    work = old.linear_work()
+    assert work["krylov_solves"] == 1 and work["krylov_iterations"] > 0
+
+    def copy(a: ngs.GridFunction, b: ngs.GridFunction) -> None:
+        b.vec.data = a.vec
+
+    new = _flow("picard")
+    assert new.linear_work()["krylov_solves"] == 0
+    new.inherit(old, Carriers(copy, copy, copy, copy))
+    assert new.linear_work() == work
+
+
 def test_the_time_loop_retries_a_failed_solve_smaller() -> None:
     """A fieldsplit solve stopped short fails the step: rejected, then retried at half
     the step (the loop's path for a solver error), not accepted."""
