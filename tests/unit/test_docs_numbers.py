@@ -132,6 +132,7 @@ SCALED_TABLE = "three_d_fieldsplit/table.json"
 SCALED_N1 = "three_d_fieldsplit/rest_h0.04_n1_fieldsplit_t0.03.json"
 SCALED_N2 = "three_d_fieldsplit/rest_h0.04_n2_fieldsplit_t0.03.json"
 SCALED_N1_01 = "three_d_fieldsplit/rest_h0.04_n1_fieldsplit_t0.1.json"
+SCALED_N2_01 = "three_d_fieldsplit/rest_h0.04_n2_fieldsplit_t0.1.json"
 
 
 def _within(variant: str, key: str, end: int) -> Callable[[Any], float]:
@@ -686,6 +687,22 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "in residual ({} steps) leaves the velocity", KRYLOV_PLUG,
      "[eps=1e-06&schur=cahouet-chabard].gmres_steps", "d", 1),
     # --- the scaled fieldsplit solve (benchmarks/three_d_fieldsplit.py --scaled)
+    ("docs/three_d.md", "it takes the same {} steps, 190\niterations and 2148", SCALED_N2_01,
+     "steps", "d", 1),
+    ("docs/three_d.md", "the same 108 steps, {}\niterations and 2148", SCALED_N2_01,
+     "nonlinear_iterations", "d", 1),
+    ("docs/three_d.md", "iterations and {} GMRes steps, its fronts within 6.1e-11", SCALED_N2_01,
+     "krylov_iterations", "d", 1),
+    ("docs/three_d.md", "its fronts within {} m of the one-process direct", SCALED_N2_01,
+     lambda d: max(_scaled_apart(k, "n1_t0.1")(d) for k in ("runout_centre_m",
+                                                             "runout_wall_m")), ".1e", 1),
+    ("docs/three_d.md", "in {} processor seconds (2.4 times", SCALED_N2_01, "cpu_s", ".0f", 1),
+    ("docs/three_d.md", "seconds ({} times the one-process fieldsplit", SCALED_N2_01,
+     _scaled_ratio("n1_fieldsplit_t0.1"), ".1f", 1),
+    ("docs/three_d.md", "within {} of `masterinverse`'s solution", SCALED_TABLE,
+     lambda d: max(json.loads((RESULTS / "three_d_fieldsplit" / (
+         f"fieldsplit_ranks_flexible_rigid_scaled_{s}_h{h}_n2.json")).read_text(
+         ))["relative_difference"] for s in STATES for h in ("0.04", "0.02")), ".1e", 1),
     ("docs/three_d.md", "the set-up apart ({} to 0.8 s)", SCALED_TABLE,
      lambda d: min(_timing(k, s)["convert_setup"] for k in TIMING_NAMES for s in STATES),
      ".1f", 1),
@@ -1982,6 +1999,17 @@ def test_the_rigid_modes_table_is_its_results_files(row: str) -> None:
              for state in ("rest", "flowing", "front")]
     line = f"| {row} | " + " | ".join(cells) + " |"
     assert line in (ROOT / "docs" / "three_d.md").read_text(encoding="utf-8"), line
+
+
+@pytest.mark.parametrize("state", ["rest", "flowing", "front"])
+@pytest.mark.parametrize("size", ["0.04", "0.02"])
+def test_the_scaled_fieldsplit_takes_one_process_steps_on_two_ranks(state: str,
+                                                                   size: str) -> None:
+    """docs/three_d.md: the scaled selfp's steps on two ranks are one process's."""
+    one, two = (json.loads((RESULTS / "three_d_fieldsplit" / (
+        f"fieldsplit_ranks_flexible_rigid_scaled_{state}_h{size}_n{n}.json")).read_text())
+        for n in (1, 2))
+    assert two["converged"] and two["steps"] == one["steps"]
 
 
 def test_the_scaled_fieldsplit_table_is_its_results_files() -> None:
