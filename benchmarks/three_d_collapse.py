@@ -113,7 +113,9 @@ def rest(size: float, ranks: int, out: Path, two_d: bool = False, solver: str | 
                                               "wall_height_m", "remeshes",
                                               "min_tetrahedron_quality")}
     if solver:
-        figures |= {"linear_solver": raw.get("linear_solver"), "t_end": stop}
+        figures |= {"linear_solver": raw.get("linear_solver"), "t_end": stop,
+                    **{key: raw.get(key) for key in ("krylov_iterations", "krylov_solves",
+                                                     "krylov_largest")}}
     return {"size": size, "ranks": ranks, "cpu_s": cpu1 - cpu0, "wall_s": wall,
             "load_average": load, "peak_mb": peak, **figures, "profile": top}
 

@@ -5,6 +5,9 @@ Run: python benchmarks/three_d_fieldsplit.py [--state rest flowing front] [--siz
          [--eps 1e-6] [--variants lsc-lu lsc-gamg selfp-lu selfp-gamg mass-lu]
          [--out benchmarks/results/three_d_krylov]
      [mpiexec -n 2] python benchmarks/three_d_fieldsplit.py --ranks [--state ...] [--size ...]
+         [--variant cahouet-chabard] [--rigid-modes] [--scaled] [--history]
+         [--out benchmarks/results/three_d_fieldsplit]
+     python benchmarks/three_d_fieldsplit.py --table --out benchmarks/results/three_d_fieldsplit
 
 Needs petsc4py (PETSc built without external packages is enough); without it the script
 says so in one line and exits. One process. The system is ``three_d_krylov.py``'s: the
@@ -39,8 +42,15 @@ pressure's L2 norms (to compare one rank with two). Writes
 fieldsplit_ranks_<state>_h<size>_n<ranks>.json; with ``--rigid-modes`` GAMG is told the
 velocity's rigid-body modes (its near-null space, as granflow's
 ``numerics.linear_solver = 'fieldsplit'`` does): fieldsplit_ranks_rigid_*.json, with
-``--variant selfp-gamg-flexible`` fieldsplit_ranks_flexible[_rigid]_*.json. The solver
-and the conversion are granflow's (``granflow.fem.fieldsplit``).
+``--variant selfp-gamg-flexible`` fieldsplit_ranks_flexible[_rigid]_*.json, with the
+other flexible variants (``cahouet-chabard``: the Cahouet-Chabard Schur preconditioner
+assembled by NGSolve, applied by a PETSc shell; ``lsc-gamg-flexible``)
+fieldsplit_ranks_<variant>[_rigid]_*.json; ``--scaled`` scales the system by its diagonal
+as granflow's solve does (``_scaled`` in the name), ``--tolerance`` sets FGMRes' relative
+residual; ``--history`` records the residuals and the distances to the direct solve after
+every step (one process). ``--table`` prints the table of the FGMRes variants' records in
+--out and writes table.json there (with the stopping test's ranges); docs/three_d.md
+quotes it. The solver and the conversion are granflow's (``granflow.fem.fieldsplit``).
 """
 
 from __future__ import annotations
@@ -51,7 +61,9 @@ import sys
 import time
 from pathlib import Path
 
-from granflow.fem.fieldsplit import VARIANTS, PetscSystem, configure
+from common.fieldsplit_table import TABLE_KINDS, stopping, table
+
+from granflow.fem.fieldsplit import TOLERANCE, VARIANTS, configure
 
 
 def petsc():
@@ -167,18 +179,35 @@ def measure(PETSc, state: str, size: float, eps: float, dt: float, variants: lis
     return rows
 
 
+def schur_of(solver, form_space):
+    """The Cahouet-Chabard forms at the solver's iterate (``fieldsplit_parts``)."""
+    from granflow.fem.fieldsplit_parts import schur_forms
+    from granflow.fem.forms import BackwardDifferenceInertia, Inertia, ViscoplasticStress
+
+    stress = next(t for t in solver.terms if isinstance(t, ViscoplasticStress))
+    inertia = next(t for t in solver.terms if isinstance(t, (Inertia, BackwardDifferenceInertia)))
+    m = stress.viscosity(*solver.solution.components)
+    return schur_forms(form_space, m, inertia.dt / inertia.density, solver.coordinates)
+
+
 def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
                   steps: int, comm, rigid_modes: bool = False,
-                  variant: str = "selfp-gamg") -> dict:
-    """selfp + GAMG on the system distributed by NGSolve over the ranks of ``comm`` (None:
-    one process), handed to PETSc by ngspetsc (a MATIS of the ranks' local matrices on the
-    free dofs' global numbering, converted to MPIAIJ), against NGSolve's direct solve."""
+                  variant: str = "selfp-gamg", scaled: bool = False,
+                  tolerance: float = TOLERANCE, history_wanted: bool = False) -> dict:
+    """A fieldsplit variant (granflow's ``FieldsplitSolve``) on the system distributed by
+    NGSolve over the ranks of ``comm`` (None: one process), handed to PETSc by ngspetsc (a
+    MATIS of the ranks' local matrices on the free dofs' global numbering, converted to
+    MPIAIJ), against NGSolve's direct solve; with one process, the true relative residual
+    and the distance to the direct solve after every GMRes step (``history``)."""
     import ngsolve as ngs
     import numpy as np
+
+    from granflow.fem.fieldsplit import FieldsplitSolve
 
     ranks = 1 if comm is None else comm.size
     solver, matrix, rhs = picard_system(state, size, eps, dt, comm)
     space = solver.space
+    form = solver.nonlinear.picard_system.a
     c0 = time.process_time()
     exact = rhs.CreateVector()
     exact.data = matrix.Inverse(space.FreeDofs(),
@@ -186,44 +215,77 @@ def measure_ranks(PETSc, state: str, size: float, eps: float, dt: float,
     direct_cpu = time.process_time() - c0
 
     c0 = time.process_time()
-    petsc_system = PetscSystem(space, space.FreeDofs(), near_null_space=rigid_modes)
-    a = petsc_system.matrix(matrix)
-    b = petsc_system.vector(rhs)
-    convert_cpu = time.process_time() - c0
-    ksp = PETSc.KSP().create(comm=a.getComm())
-    ksp.setOptionsPrefix(f"ranks_{variant.replace('-', '_')}_")
-    ksp.setOperators(a)
-    configure(ksp, variant, petsc_system.velocity, petsc_system.pressure, None, steps)
-    x = b.duplicate()
-    x.set(0.0)
-    f0, c0 = PETSc.Log.getFlops(), time.process_time()
+    schur = schur_of(solver, space) if VARIANTS[variant]["p"] == "shell" else None
+    solve = FieldsplitSolve(form, space.FreeDofs(), near_null_space=rigid_modes,
+                            max_steps=steps, variant=variant, scaled=scaled, schur=schur,
+                            tolerance=tolerance)
+    f0 = PETSc.Log.getFlops()
+    solve.update()
+    ksp = solve.ksp
+    system = solve._system
+    a = system.matrix(matrix)
+    b = system.vector(rhs)
+    history: list[list[float]] = []
+    split = space.Range(0).stop
+    free = np.array(list(space.FreeDofs()), dtype=bool)
+    fields = (np.arange(len(free)) < split)[free]
+
+    def apart(x) -> list[float]:
+        """The velocity's and the pressure's relative distances to the direct solve."""
+        got, want = x.getArray(), system.vector(exact).getArray()
+        return [float(np.linalg.norm(got[f] - want[f]) / np.linalg.norm(want[f]))
+                for f in (fields, ~fields)]
+
+    def monitor(ksp, its, rnorm) -> None:
+        x = solve.unscaled(ksp.buildSolution())
+        r = b.duplicate()
+        a.mult(x, r)
+        r.aypx(-1.0, b)
+        history.append([its, rnorm, r.norm() / b.norm(), *apart(x)])
+
+    if comm is None and history_wanted:
+        ksp.setMonitor(monitor)
     ksp.setUp()
-    c1 = time.process_time()
-    ksp.solve(b, x)
-    c2, flops = time.process_time(), PETSc.Log.getFlops() - f0
-    reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
+    c2 = time.process_time()
     out = rhs.CreateVector()
-    petsc_system.back(x, out)
+    try:
+        solve.solve(rhs, out)
+        failure = None
+    except Exception as error:            # LinearSolveFailed: keep the record
+        failure = str(error)
+    c3, flops = time.process_time(), PETSc.Log.getFlops() - f0
+    reason, iterations = int(ksp.getConvergedReason()), ksp.getIterationNumber()
+    if failure is not None:
+        x = solve.unscaled(ksp.getSolution().copy())
+        system.back(x, out)
     difference = rhs.CreateVector()
     difference.data = out - exact
     distance = ngs.Norm(difference) / ngs.Norm(exact)
+    x = system.vector(out)
+    r = b.duplicate()
+    a.mult(x, r)
+    r.aypx(-1.0, b)
+    per_field = apart(x) if comm is None else []
     solution = ngs.GridFunction(space)
     solution.vec.data = out
     u, p = solution.components
     norms = [float(np.sqrt(ngs.Integrate(f * f, space.mesh))) for f in (u, p)]
-    cpu = {"direct": direct_cpu, "convert": convert_cpu, "setup": c1 - c0, "solve": c2 - c1}
+    cpu = {"direct": direct_cpu, "convert_setup": c2 - c0, "solve": c3 - c2}
     per_rank = [cpu] if comm is None else comm.allgather(cpu)
     flops_per_rank = [flops] if comm is None else comm.allgather(flops)
-    ksp.destroy()
+    solve.reset()
     return {"case": "column", "state": state, "size": size, "eps": eps, "dt": dt,
             "variant": variant, **VARIANTS[variant], "ranks": ranks,
-            "rigid_modes": rigid_modes,
+            "rigid_modes": rigid_modes, "scaled": scaled, "tolerance": tolerance,
             "unknowns": space.ndofglobal, "free_unknowns": a.getSize()[0],
             "rows_per_rank": [] if comm is None else comm.allgather(a.getLocalSize()[0]),
             "converged": reason > 0, "reason": reason, "steps": iterations,
             "relative_difference": distance,
+            "velocity_pressure_difference": per_field,
+            "true_relative_residual": r.norm() / b.norm(),
             "velocity_l2": norms[0], "pressure_l2": norms[1],
-            "cpu_s_per_rank": per_rank, "petsc_flops_per_rank": flops_per_rank}
+            "cpu_s_per_rank": per_rank, "petsc_flops_per_rank": flops_per_rank,
+            "history": history}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -239,7 +301,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ranks", action="store_true",
                         help="selfp + GAMG on NGSolve's distributed system, through ngspetsc "
                              "(run under mpiexec; on one process: the reference)")
-    parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible"),
+    parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible",
+                                              "lsc-gamg-flexible", "cahouet-chabard"),
                         default="selfp-gamg",
                         help="with --ranks: the variant (selfp-gamg-flexible: granflow's "
                              "numerics.linear_solver = 'fieldsplit'); records "
@@ -247,7 +310,27 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rigid-modes", action="store_true",
                         help="with --ranks: GAMG told the velocity's rigid-body modes "
                              "(granflow's solve); records fieldsplit_ranks_rigid_*")
+    parser.add_argument("--scaled", action="store_true",
+                        help="with --ranks: the system scaled by its diagonal "
+                             "(granflow.fem.fieldsplit_parts.scaling); records *_scaled_*")
+    parser.add_argument("--tolerance", type=float, default=TOLERANCE,
+                        help="with --ranks and a flexible variant: FGMRes' true relative "
+                             "residual; records *_tol<value>_* unless the default")
+    parser.add_argument("--table", action="store_true",
+                        help="print the table of the FGMRes variants' records in --out "
+                             "(steps at 973 / 5,414 / 18,192 unknowns, largest distance)")
+    parser.add_argument("--history", action="store_true",
+                        help="with --ranks on one process: the true relative residual and "
+                             "the distance to the direct solve after every step (the "
+                             "processor times then include computing them)")
     args = parser.parse_args(argv)
+    if args.table:
+        print(table(args.out))
+        ranges = {name: stopping(args.out, kind) for name, kind in TABLE_KINDS.items()}
+        (args.out / "table.json").write_text(json.dumps(
+            {"table": table(args.out), "within_1e-6": ranges}, indent=1) + "\n",
+            encoding="utf-8")
+        return 0
     PETSc = petsc()
     if PETSc is None:
         print("three_d_fieldsplit.py needs petsc4py (pip install petsc petsc4py); "
@@ -285,13 +368,18 @@ def ranks_mode(PETSc, args: argparse.Namespace) -> int:
     for size in args.size:
         for state in args.state:
             row = measure_ranks(PETSc, state, size, args.eps, args.dt, args.max_steps, comm,
-                                args.rigid_modes, args.variant)
+                                args.rigid_modes, args.variant, args.scaled, args.tolerance,
+                                args.history)
             if comm is None or comm.rank == 0:
                 print(json.dumps({k: row[k] for k in (
                     "state", "ranks", "free_unknowns", "converged", "steps",
-                    "relative_difference", "velocity_l2", "cpu_s_per_rank")}), flush=True)
-                kind = "ranks" + ("_flexible" if args.variant != "selfp-gamg" else "") + (
-                    "_rigid" if args.rigid_modes else "")
+                    "relative_difference", "velocity_pressure_difference",
+                    "true_relative_residual", "cpu_s_per_rank")}), flush=True)
+                kind = "ranks" + {"selfp-gamg": "", "selfp-gamg-flexible": "_flexible"}.get(
+                    args.variant, "_" + args.variant) + (
+                    "_rigid" if args.rigid_modes else "") + (
+                    "_scaled" if args.scaled else "") + (
+                    "" if args.tolerance == TOLERANCE else f"_tol{args.tolerance:g}")
                 name = f"fieldsplit_{kind}_{state}_h{size:g}_n{row['ranks']}.json"
                 (args.out / name).write_text(json.dumps(row, indent=1) + "\n",
                                              encoding="utf-8")

@@ -205,6 +205,7 @@ class RunRecord(Outputs):
             "n_triangles": problem.mesh.ne,
             "n_dofs": solver.space.ndof,
             "resumed": self.resumed,
+            **solver.linear_work(),     # an iterative solve's steps (fem/fieldsplit.py)
         }
 
 

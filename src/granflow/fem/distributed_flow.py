@@ -218,7 +218,13 @@ class DistributedFlow:
 
     def inherit(self, old: Any, carry: Any) -> None:
         self.serial.inherit(getattr(old, "serial", old), carry)
+        self.part.solver.nonlinear.carried_work = old.linear_work()
         self._share_history()
+
+    def linear_work(self) -> dict[str, int]:
+        """The counts of the solves done on the ranks (rank 0's share of them: PETSc's
+        steps are collective, so every rank counts the same)."""
+        return self.part.solver.linear_work()
 
     def solve_step(self, dt: float, tol: float, max_iterations: int,
                    velocity_floor: float = 0.0) -> IterationReport:

@@ -3,20 +3,23 @@
 
 The matrix goes to PETSc through ngspetsc (a MATIS of the ranks' local matrices on the free
 degrees of freedom's global numbering, converted to AIJ; on one process the free rows and
-columns as they are), the velocity and pressure rows as two index sets. Flexible GMRes
-(FGMRes, unrestarted, modified Gram-Schmidt), judged on the true relative residual
-``TOLERANCE``, preconditioned by the Schur complement factorisation ``full``: the velocity
-block by GMRes to ``VELOCITY_TOLERANCE`` preconditioned by algebraic multigrid (GAMG) told
-the velocity's rigid-body modes, the Schur complement by A11 - A10 diag(A00)^-1 A01
-(``selfp``) with one GAMG cycle. Every part is distributed.
+columns as they are), the velocity and pressure rows as two index sets. The system is
+scaled symmetrically by its diagonal (``fieldsplit_parts.scaling``: unscaled, the rigid
+cells' rows, 1 / eps times the flowing ones', are all the residual's norm sees). Flexible
+GMRes (FGMRes, unrestarted, modified Gram-Schmidt), judged on the scaled system's true
+relative residual ``TOLERANCE``, preconditioned by the Schur complement factorisation
+``full``: the velocity block by GMRes to ``VELOCITY_TOLERANCE`` preconditioned by
+algebraic multigrid (GAMG) told the velocity's rigid-body modes, the Schur complement by
+A11 - A10 diag(A00)^-1 A01 (``selfp``) with one GAMG cycle. Every part is distributed.
+``VARIANTS`` holds the others benchmarks/three_d_fieldsplit.py measures (the
+Cahouet-Chabard and the least-squares commutator Schur preconditioners among them);
+docs/three_d.md gives the measurements and why this one.
 
-Why not one GAMG cycle on the velocity inside left-preconditioned GMRes, the variant
-``selfp-gamg`` that benchmarks/three_d_fieldsplit.py measured on the column's first
-systems: on the collapse's own systems a few steps in its preconditioned residual
-stagnated and the steps failed, while this variant ran them (docs/three_d.md, which also
-says where this one is still short of the direct solve). A solve that stops short of its
-tolerance raises ``LinearSolveFailed``: the time loop rejects the step and retries it
-smaller.
+Why not one GAMG cycle on the velocity inside left-preconditioned GMRes (``selfp-gamg``):
+on the collapse's own systems a few steps in its preconditioned residual stagnated and the
+steps failed, while the inner velocity solve inside FGMRes ran them. A solve that stops
+short of its tolerance raises ``LinearSolveFailed``: the time loop rejects the step and
+retries it smaller.
 
 petsc4py and ngspetsc are optional installs, imported when a solve is built.
 """
@@ -46,8 +49,25 @@ VARIANTS = {
     "selfp-gamg": {"schur": "selfp", "u": "gamg", "p": "gamg"},
     "mass-lu": {"schur": "user", "u": "lu", "p": "jacobi"},
     "selfp-gamg-flexible": {"schur": "selfp", "u": "gamg", "p": "gamg", "inner": "gmres"},
+    "lsc-gamg-flexible": {"schur": "self", "u": "gamg", "p": "lsc", "inner": "gmres"},
+    "cahouet-chabard": {"schur": "user", "u": "gamg", "p": "shell", "inner": "gmres"},
 }
 SOLVER_VARIANT = "selfp-gamg-flexible"
+
+
+KRYLOV_KEYS = ("krylov_iterations", "krylov_solves", "krylov_largest")   # summary.json
+
+
+def combined_work(*works: dict[str, int]) -> dict[str, int]:
+    """Several solves' ``FieldsplitSolve.work`` as one: the steps and the solves summed,
+    the most steps of one solve the largest; empty when none has any (direct solves)."""
+    present = [w for w in works if w]
+    if not present:
+        return {}
+    iterations, solves, largest = KRYLOV_KEYS
+    return {iterations: sum(w[iterations] for w in present),
+            solves: sum(w[solves] for w in present),
+            largest: max(w[largest] for w in present)}
 
 
 class LinearSolveFailed(RuntimeError):
@@ -77,7 +97,7 @@ def refusal() -> str | None:
 
 
 def configure(ksp: Any, variant: str, velocity: Any, pressure: Any, mass: Any = None,
-              steps: int = MAX_STEPS) -> None:
+              steps: int = MAX_STEPS, tolerance: float = TOLERANCE) -> None:
     """GMRes with the fieldsplit preconditioner of ``variant`` (``VARIANTS``) on ``ksp``,
     whose operator is set; ``velocity``, ``pressure``: the two fields' index sets;
     ``mass``: the Schur complement's preconditioner for the variant "mass-lu"."""
@@ -88,7 +108,7 @@ def configure(ksp: Any, variant: str, velocity: Any, pressure: Any, mass: Any = 
     # flexible: the true residual; else left-preconditioned, the preconditioned residual
     ksp.setType("fgmres" if inner else "gmres")
     ksp.setGMRESRestart(steps)
-    ksp.setTolerances(rtol=TOLERANCE if inner else BENCHMARK_TOLERANCE, atol=0.0,
+    ksp.setTolerances(rtol=tolerance if inner else BENCHMARK_TOLERANCE, atol=0.0,
                       max_it=steps)
     pc = ksp.getPC()
     pc.setType("fieldsplit")
@@ -99,6 +119,7 @@ def configure(ksp: Any, variant: str, velocity: Any, pressure: Any, mass: Any = 
            "selfp": PETSc.PC.FieldSplitSchurPreType.SELFP,
            "user": PETSc.PC.FieldSplitSchurPreType.USER}[kind["schur"]]
     pc.setFieldSplitSchurPreType(pre, mass if kind["schur"] == "user" else None)
+    p_pc = {"shell": "none"}.get(kind["p"], kind["p"])   # the shell is set after set-up
     options = PETSc.Options()
     prefix = ksp.getOptionsPrefix() or ""
     lsc = kind["p"] == "lsc"
@@ -109,12 +130,13 @@ def configure(ksp: Any, variant: str, velocity: Any, pressure: Any, mass: Any = 
         options[prefix + "fieldsplit_u_ksp_gmres_restart"] = INNER_STEPS
     for name, value in {"fieldsplit_u_ksp_type": inner or "preonly",
                         "fieldsplit_u_pc_type": kind["u"],
-                        "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": kind["p"],
+                        "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": p_pc,
                         **({"fieldsplit_p_lsc_ksp_type": "preonly",
-                            "fieldsplit_p_lsc_pc_type": "lu"} if lsc else {})}.items():
+                            "fieldsplit_p_lsc_pc_type": "gamg" if inner else "lu"}
+                           if lsc else {})}.items():
         options[prefix + name] = value
     factors = [f"fieldsplit_{f}_" for f in ("u", "p") if kind[f] == "lu"]
-    for factor in factors + (["fieldsplit_p_lsc_"] if lsc else []):
+    for factor in factors + (["fieldsplit_p_lsc_"] if lsc and not inner else []):
         # PETSc's zero-pivot test is relative to the row's sum: the contrast of 1 / eps in
         # the weighted pressure blocks trips it, and LU needs no pivoting on these blocks
         options[prefix + factor + "pc_factor_zeropivot"] = 0.0
@@ -154,20 +176,28 @@ class PetscSystem:
                                                         dtype=PETSc.IntType)
         self.velocity = PETSc.IS().createGeneral(owned[sign.getArray() > 0], comm=comm)
         self.pressure = PETSc.IS().createGeneral(owned[sign.getArray() < 0], comm=comm)
+        self._modes: list[Any] | None = None
         if near_null_space:
-            self.velocity.compose("nearnullspace", self._rigid_modes())
+            self.velocity.compose("nearnullspace", self.rigid_modes())
 
-    def _rigid_modes(self) -> Any:
+    def rigid_modes(self, d: Any = None) -> Any:
         """The rigid-body modes on the free velocity rows, orthonormal (GAMG's near-null
-        space; PCFIELDSPLIT hands what is composed on the index set to its block)."""
+        space; PCFIELDSPLIT hands what is composed on the index set to its block); with
+        ``d``, those of the system scaled by diag(d) (each mode divided by d)."""
         from petsc4py import PETSc
 
-        state = ngs.GridFunction(self.space)
+        if self._modes is None:
+            state = ngs.GridFunction(self.space)
+            self._modes = []
+            for mode in rigid_modes(self.space.mesh):
+                state.vec[:] = 0.0
+                state.components[0].Set(mode)
+                self._modes.append(self.mapping.petscVec(state.vec))
         basis = []
-        for mode in rigid_modes(self.space.mesh):
-            state.vec[:] = 0.0
-            state.components[0].Set(mode)
-            whole = self.mapping.petscVec(state.vec)
+        for mode in self._modes:
+            whole = mode.copy()
+            if d is not None:
+                whole.pointwiseDivide(whole, d)
             part = whole.getSubVector(self.velocity)
             vector = part.copy()
             whole.restoreSubVector(self.velocity, part)
@@ -197,24 +227,35 @@ class PetscSystem:
 class FieldsplitSolve:
     """``ReusableLU``'s interface (``fem/linalg.py``) with PETSc's fieldsplit GMRes
     (module docstring): ``update`` hands the reassembled matrix to PETSc, ``solve`` solves
-    and raises ``LinearSolveFailed`` when GMRes stops short. ``steps`` counts GMRes steps."""
+    and raises ``LinearSolveFailed`` when GMRes stops short. ``variant``: ``VARIANTS``'s
+    name; ``scaled``: the system scaled by its diagonal (``fieldsplit_parts.scaling``);
+    ``schur``: the Cahouet-Chabard forms (``fieldsplit_parts.schur_forms``), reassembled
+    at each update, for the variant "cahouet-chabard". ``steps``, ``solves`` and
+    ``largest`` count the GMRes steps, the solves and the most steps of one solve."""
 
     def __init__(self, form: ngs.BilinearForm, freedofs: ngs.BitArray,
-                 near_null_space: bool = True, max_steps: int = MAX_STEPS) -> None:
+                 near_null_space: bool = True, max_steps: int = MAX_STEPS,
+                 variant: str = SOLVER_VARIANT, scaled: bool = True,
+                 schur: tuple[ngs.BilinearForm, ngs.BilinearForm] | None = None,
+                 tolerance: float = TOLERANCE) -> None:
         self._form, self._freedofs = form, freedofs
         self._max_steps = max_steps
         self._near_null_space = near_null_space
+        self.variant, self.scaled, self.schur, self.tolerance = variant, scaled, schur, tolerance
         self._system: PetscSystem | None = None
         self._ksp: Any = None
+        self._d: Any = None
+        self._shell: Any = None
         self.factorisations = 0
         self.steps = 0
         self.solves = 0
+        self.largest = 0
 
     def reset(self) -> None:
         """Forget the index sets and the solver (the space or its free dofs changed)."""
         if self._ksp is not None:
             self._ksp.destroy()
-        self._ksp = self._system = None
+        self._ksp = self._system = self._shell = None
 
     def set_free_dofs(self, freedofs: ngs.BitArray) -> None:
         self._freedofs = freedofs
@@ -224,31 +265,81 @@ class FieldsplitSolve:
         """Hand the reassembled matrix to PETSc; the preconditioner is rebuilt from it."""
         from petsc4py import PETSc
 
+        from granflow.fem.fieldsplit_parts import CahouetChabard, scaling
+
         if self._system is None:
             self._system = PetscSystem(self._form.space, self._freedofs,
-                                       self._near_null_space)
-        matrix = self._system.matrix(self._form.mat)
+                                       self._near_null_space and not self.scaled)
+        system = self._system
+        matrix = system.matrix(self._form.mat)
+        if self.scaled:
+            self._d = scaling(matrix, system.velocity, system.pressure)
+            matrix.diagonalScale(L=self._d, R=self._d)
+            if self._near_null_space:
+                system.velocity.compose("nearnullspace", system.rigid_modes(self._d))
+        pressure_d = None
+        if self._d is not None:
+            part = self._d.getSubVector(system.pressure)
+            pressure_d = part.copy()
+            self._d.restoreSubVector(system.pressure, part)
         if self._ksp is None:
             self._ksp = PETSc.KSP().create(comm=matrix.getComm())
-            self._ksp.setOptionsPrefix(PREFIX)
+            self._ksp.setOptionsPrefix(PREFIX + self.variant.replace("-", "_") + "_")
             self._ksp.setOperators(matrix)
-            configure(self._ksp, SOLVER_VARIANT, self._system.velocity,
-                      self._system.pressure, steps=self._max_steps)
+            placeholder = (matrix.createSubMatrix(system.pressure, system.pressure)
+                           if VARIANTS[self.variant]["p"] == "shell" else None)
+            configure(self._ksp, self.variant, system.velocity, system.pressure,
+                      placeholder, steps=self._max_steps, tolerance=self.tolerance)
         else:
             self._ksp.setOperators(matrix)
+        if VARIANTS[self.variant]["p"] == "shell":
+            assert self.schur is not None, "the Cahouet-Chabard variant needs its forms"
+            mass, laplace = (self._pressure_matrix(form) for form in self.schur)
+            if self._shell is None:
+                self._shell = CahouetChabard()
+                self._ksp.setUp()
+                schur_pc = self._ksp.getPC().getFieldSplitSubKSP()[1].getPC()
+                schur_pc.setType("python")
+                schur_pc.setPythonContext(self._shell)
+            self._shell.update(mass, laplace, pressure_d)
         self.factorisations += 1
+
+    def _pressure_matrix(self, form: ngs.BilinearForm) -> Any:
+        assert self._system is not None
+        form.Assemble()
+        whole = self._system.matrix(form.mat)
+        return whole.createSubMatrix(self._system.pressure, self._system.pressure)
 
     def solve(self, rhs: ngs.BaseVector, out: ngs.BaseVector) -> None:
         assert self._system is not None and self._ksp is not None, "update() first"
         b = self._system.vector(rhs)
+        if self._d is not None:
+            b.pointwiseMult(b, self._d)
         x = b.duplicate()
         x.set(0.0)
         self._ksp.solve(b, x)
         steps, reason = self._ksp.getIterationNumber(), int(self._ksp.getConvergedReason())
         self.steps += steps
         self.solves += 1
+        self.largest = max(self.largest, steps)
         if reason <= 0:
             raise LinearSolveFailed(
                 f"the fieldsplit FGMRes stopped after {steps} steps short of its relative "
-                f"residual {TOLERANCE:g} (PETSc's reason {reason})")
-        self._system.back(x, out)
+                f"residual {self.tolerance:g} (PETSc's reason {reason})")
+        self._system.back(self.unscaled(x), out)
+
+    def unscaled(self, x: Any) -> Any:
+        """A solution of the (scaled) system PETSc solves as the unscaled unknowns."""
+        if self._d is not None:
+            x.pointwiseMult(x, self._d)
+        return x
+
+    def work(self) -> dict[str, int]:
+        """The GMRes steps of every solve so far, the solves, the most steps of one
+        (summary.json's ``KRYLOV_KEYS``)."""
+        return dict(zip(KRYLOV_KEYS, (self.steps, self.solves, self.largest), strict=True))
+
+    @property
+    def ksp(self) -> Any:
+        """PETSc's solver (set by ``update``)."""
+        return self._ksp

@@ -243,10 +243,16 @@ class FlowSolver:
         self.scheme.inherit(old.scheme, carry.state)
         self.solution.vec.data = self.previous.vec
         self.extrapolation_won = old.extrapolation_won
+        self.nonlinear.carried_work = old.linear_work()
         before = {c.name: c for c in old.couplings}
         for coupling in self.couplings:
             if coupling.name in before:
                 coupling.inherit(before[coupling.name], carry)
+
+    def linear_work(self) -> dict[str, int]:
+        """The iterative linear solves' counts over the run, for summary.json (none with
+        a direct solve: ``NonlinearSolver.linear_work``)."""
+        return self.nonlinear.linear_work()
 
     def reset_factorisations(self) -> None:
         """Forget every symbolic LU: the flow's and its couplings' (after a checkpoint, so

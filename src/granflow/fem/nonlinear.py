@@ -17,7 +17,7 @@ import ngsolve as ngs
 import numpy as np
 
 from granflow.fem.anderson import Anderson
-from granflow.fem.fieldsplit import FIELDSPLIT, FieldsplitSolve
+from granflow.fem.fieldsplit import FIELDSPLIT, FieldsplitSolve, combined_work
 from granflow.fem.linalg import ReusableLU
 from granflow.simulation.outcomes import IterationReport
 
@@ -159,6 +159,7 @@ class NonlinearSolver:
         self._mass = ngs.BilinearForm(space)
         self._mass += u * v * ngs.dx
         self.scratch = ngs.GridFunction(space)   # for callers' temporary fields
+        self.carried_work: dict[str, int] = {}   # ``linear_work`` on the meshes before
         vec = state.vec
         self._r, self._delta, self._bar = vec.CreateVector(), vec.CreateVector(), vec.CreateVector()
         self._trial, self._work = vec.CreateVector(), vec.CreateVector()
@@ -172,6 +173,13 @@ class NonlinearSolver:
         self._bar.FV().NumPy()[:] = values
         self._work.data = self._mass.mat * self._bar
         return self._work.FV().NumPy().copy()
+
+    def linear_work(self) -> dict[str, int]:
+        """The iterative solves' counts (``fieldsplit.KRYLOV_KEYS``) over the run: this
+        solver's and those carried from the solvers of the meshes before; empty with a
+        direct solve."""
+        return combined_work(self.carried_work, self.picard_system.lu.work(),
+                             self.newton_system.lu.work())
 
     def reset_factorisations(self) -> None:
         """Forget the symbolic LUs (the sparsity pattern changed)."""
