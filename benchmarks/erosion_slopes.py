@@ -114,6 +114,12 @@ VARIANTS = {
     "glass-beads-no-slip-small-eta-walls": [*GLASS_BEADS, "boundary.bed=no-slip",
                                             "material.viscosity=0.01",
                                             "boundary.channel_width=0.1"],
+    # the paper's rate-independent law (Drucker-Prager, 25.5 deg) in the same channel on
+    # the same no-slip bed with eta / 100: the control that says whether the candidate's
+    # gain on the level bed needs the beads' rate dependence
+    "drucker-prager-no-slip-small-eta-walls": ["boundary.bed=no-slip",
+                                               "material.viscosity=0.01",
+                                               "boundary.channel_width=0.1"],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
@@ -122,7 +128,8 @@ RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same 
 REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta": 2.0}
 # a layer of a fixed length (m), so that it need not wait for its rigid twin: 3 m is twice
 # the furthest front of the rows without walls at 0-19 degrees (1.46 m at 3 s)
-LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0}
+LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0,
+          "drucker-prager-no-slip-small-eta-walls": 3.0}
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
