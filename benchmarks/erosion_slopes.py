@@ -4,7 +4,7 @@ against slope, for several model ingredients, beside what the experiments report
 Run: python benchmarks/erosion_slopes.py [--variants drucker-prager mu-i ...]
          [--shapes rectangle trapezoid] [--slopes 0 10 16 19 22]
          [--thickness 0.0025 0.005 0.01] [--beds rigid erodible] [--cells 2]
-         [--out benchmarks/results/erosion_slopes] [--collect]
+         [--out benchmarks/results/erosion_slopes] [--t-end 3] [--collect]
 
 Each variant is a set of overrides applied to both beds; the ratio is taken between its
 erodible and rigid runs at the same slope. The rigid bed of each variant and slope runs
@@ -14,7 +14,11 @@ kept and one with a checkpoint (every 100 steps) continued, so rerunning the com
 continues the study; a finished row already in OUT/erosion_slopes.json with the same
 overrides is kept without its run folder (a fresh clone has none). A run interrupted
 (SIGINT, SIGTERM) is recorded as it stands (its front in time, ``interrupted``) and ends
-the invocation. OUT/
+the invocation. ``--t-end T`` carries the study past its 3 s: a row that reached 3 s
+still moving is continued from its checkpoint to T (``granflow resume --set time.t_end=T``;
+a row at rest is kept); each row records the end time it ran to (``t_end``) and, once
+carried, its earlier figures by end time (``earlier``). A row carried further is kept as it
+is by an invocation with an earlier end (the default's): never run again or shortened. OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
 erosion_slopes.png the ratio against slope, OUT/erosion_slopes_fronts.md each layer row's
 front against its rigid twin's in time, the fronts' speeds at the end and where the
@@ -44,7 +48,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from common.carry import STUDY_END, carried, ended, settled, with_earlier  # noqa: E402
 from common.erosion import (  # noqa: E402
+    CLOCK,
     destination_table,
     front_history,
     front_speed_end,
@@ -52,7 +58,7 @@ from common.erosion import (  # noqa: E402
     layer_destination,
 )
 from common.results import read_results, report, write_json, write_markdown  # noqa: E402
-from common.runs import FINISHED, collected, flow_duration, run_or_continue  # noqa: E402
+from common.runs import collected, flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
 
@@ -142,7 +148,8 @@ ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
             "numerics.anderson_depth=3",   # as trapezoid-erodible
             "surface_tension.length=mesh_size"]   # the study's rows: the tension of their time
 CELLS = 2   # across the layer, unless --cells says otherwise
-COMMON = ["boundary.normal_load=reaction", "time.t_end=3.0", "output.checkpoint_every=100",
+T_END = STUDY_END   # s: the study's end; --t-end carries rows further (``common/carry.py``)
+COMMON = ["boundary.normal_load=reaction", f"time.t_end={T_END}", "output.checkpoint_every=100",
           "mesh.adaptive=false"]   # every row ran on the uniform mesh
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
         "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
@@ -168,14 +175,17 @@ def overrides(variant: str, shape: str, he: float, slope: float,
 
 
 def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
-        out: Path, cells: int = CELLS, done: dict | None = None) -> dict:
+        out: Path, cells: int = CELLS, done: dict | None = None,
+        t_end: float = T_END) -> dict:
     """One run: kept when finished (``done``, its row in the JSON, with the same overrides;
-    else its folder), continued from its checkpoint, else run afresh."""
+    else its folder) at rest or at ``t_end`` or later, continued from its checkpoint (to
+    ``t_end`` if it reached an earlier end still moving), else run afresh."""
     found = overrides(variant, shape, he, slope, rigid, cells)
-    if done and done.get("status") in FINISHED and done.get("overrides", found) == found:
+    same = bool(done) and done.get("overrides", found) == found
+    if same and settled(done, t_end):
         return done
-    summary = run_or_continue(SCENARIO[shape], found, out)
-    return row_of(summary, out) | {"overrides": found}
+    summary = carried(run_or_continue(SCENARIO[shape], found, out), out, t_end)
+    return with_earlier(row_of(summary, out) | {"overrides": found}, done if same else None)
 
 
 def row_of(summary: dict, out: Path) -> dict:
@@ -185,8 +195,11 @@ def row_of(summary: dict, out: Path) -> dict:
     config = tomllib.loads((out / "config.toml").read_text())
     grain = config.get("layer", {}).get("grain_diameter")    # "none": the column's
     grain = grain if isinstance(grain, float) else config["material"]["grain_diameter"]
+    t_end = float(config["time"]["t_end"])
+    clock = CLOCK + tuple(float(t) for t in range(int(T_END) + 1, int(t_end) + 1))
     return {k: summary.get(k) for k in KEYS} | {
-        "duration_s": flow_duration(out), "front_history": front_history(out),
+        "t_end": t_end, "duration_s": flow_duration(out),
+        "front_history": front_history(out, clock),
         "front_speed_end_m_s": front_speed_end(out)} | layer_destination(
         out, grain, config["geometry"]["width"], summary.get("column_front_m"))
 
@@ -206,8 +219,9 @@ def front(row: dict) -> float | None:
 def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, str]:
     """The erodible row's runout over its rigid twin's, and what it is: "" both settled;
     "≤" an upper bound, the rigid front still moving at t_end (it only goes further); "≥" a
-    lower bound, the erodible front still moving; "≈" both moving, their fronts at t_end.
-    None for a rigid row or one that failed."""
+    lower bound, the erodible front still moving; "≈" both moving, their fronts at t_end (at
+    the earlier end of the two, from the other's ``front_history``, where they ran to
+    different ends). None for a rigid row or one that failed."""
     rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
     x, x0 = runout(row), runout(rigid)
     if row["he"] == 0:
@@ -220,7 +234,12 @@ def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, str]:
         return None, ""
     if x0:
         return front(row) / x0, "≥"
-    return (front(row) / front(rigid), "≈") if front(rigid) else (None, "")
+    if not front(rigid):
+        return None, ""
+    end = min(ended(row), ended(rigid))
+    mine, theirs = (front(r) if ended(r) == end else r.get("front_history", {}).get(f"{end:g}")
+                    for r in (row, rigid))
+    return (mine / theirs, "≈") if mine and theirs else (None, "")
 
 
 def table(results: dict[str, dict]) -> str:
@@ -293,9 +312,9 @@ def panel(variant: str, shape: str, he: float) -> int:
     return 0
 
 
-BOUND_MARKERS = {"≤": ("v", "upper bound: rigid front still moving at 3 s"),
-                 "≥": ("^", "lower bound: erodible front still moving at 3 s"),
-                 "≈": ("o", "both fronts still moving at 3 s: ratio of the fronts then")}
+BOUND_MARKERS = {"≤": ("v", "upper bound: rigid front still moving at its end"),
+                 "≥": ("^", "lower bound: erodible front still moving at its end"),
+                 "≈": ("o", "both fronts still moving at their end: ratio of the fronts")}
 
 
 def figure(results: dict[str, dict], path: Path) -> None:
@@ -350,7 +369,9 @@ def where(results: dict[str, dict]) -> str:
                   key=lambda item: (item[1]["variant"], item[1]["slope"], item[1]["he"]))
     pairs = [(n, r, results.get(rigid_key(r["variant"], r["shape"], r["slope"]), {}))
              for n, r in rows]
-    return ("## The front over the layer minus the rigid twin's (mm)\n\n" + fronts_table(pairs)
+    later = sorted({float(t) for _, r, _ in pairs for t in r["front_history"]} - set(CLOCK))
+    return ("## The front over the layer minus the rigid twin's (mm)\n\n"
+            + fronts_table(pairs, CLOCK + tuple(later))
             + "\n## Where the displaced layer material went, at the end\n\n"
             + destination_table(rows))
 
@@ -376,8 +397,13 @@ def main() -> None:
                         choices=["rigid", "erodible"])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/erosion_slopes"))
     parser.add_argument("--cells", type=int, default=CELLS, help="cells across the layer")
+    parser.add_argument("--t-end", type=float, default=T_END,
+                        help="carry rows still moving at 3 s on to this end time (s)")
     parser.add_argument("--collect", action="store_true")
     args = parser.parse_args()
+    if not T_END <= args.t_end <= 60:
+        parser.error(f"--t-end must be between the study's {T_END:g} s and 60 s, "
+                     f"not {args.t_end:g}")
     store = args.out / "erosion_slopes.json"
     results = read_results(store)
     for variant in args.variants:
@@ -395,11 +421,11 @@ def main() -> None:
                         summary = collected(folder)
                         if summary is None:
                             continue
-                        row = row_of(summary, folder)
+                        row = with_earlier(row_of(summary, folder), results.get(name))
                     else:
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
                         row = run(variant, shape, he, slope, rigid, folder, args.cells,
-                                  results.get(name))
+                                  results.get(name), args.t_end)
                     results[name] = row | {"variant": variant, "shape": shape,
                                            "slope": slope, "he": he, "cells": args.cells}
                     report(name, results[name])

@@ -322,9 +322,14 @@ NO_WALLS = json.loads((RESULTS / ETA_STUDY).read_text())
 WALLS_DATA = json.loads((RESULTS / WALLS_STUDY).read_text())
 
 
+def _at_3(row: dict) -> dict:
+    """A row as it stood at the study's 3 s: a row carried further keeps it (``earlier``)."""
+    return row.get("earlier", {}).get("3", row)
+
+
 def _walls(he: str, slope: int, key: str) -> Callable[[Any], float]:
-    """A row of the study in the 10 cm channel (he in mm, "0" rigid)."""
-    return lambda data: data[f"{WALLS_VARIANT}-{he}mm-{slope}"][key]
+    """A row of the study in the 10 cm channel (he in mm, "0" rigid) at 3 s."""
+    return lambda data: _at_3(data[f"{WALLS_VARIANT}-{he}mm-{slope}"])[key]
 
 
 def _walls_gain(slope: int, t: str | None, rows: str = "walls") -> Callable[[Any], float]:
@@ -332,7 +337,7 @@ def _walls_gain(slope: int, t: str | None, rows: str = "walls") -> Callable[[Any
     study in the channel or (``rows`` = "none") of the one without walls."""
     def gain(data: Any) -> float:
         data, variant = (data, WALLS_VARIANT) if rows == "walls" else (NO_WALLS, ETA_VARIANT)
-        layer, rigid = (data[f"{variant}-{he}mm-{slope}"] for he in ("5", "0"))
+        layer, rigid = (_at_3(data[f"{variant}-{he}mm-{slope}"]) for he in ("5", "0"))
         if t is None:
             return 1e3 * (layer["runout_m"] - rigid["runout_m"])
         return 1e3 * (layer["front_history"][t] - rigid["front_history"][t])
@@ -345,9 +350,9 @@ def _walls_ratio(data: Any) -> float:
 
 
 def _walls_ratio_at(slope: int) -> Callable[[Any], float]:
-    """The 5 mm row's front over its rigid twin's at the end, in the channel."""
-    return lambda data: (data[f"{WALLS_VARIANT}-5mm-{slope}"]["runout_m"]
-                         / data[f"{WALLS_VARIANT}-0mm-{slope}"]["runout_m"])
+    """The 5 mm row's front over its rigid twin's at the end (by 3 s), in the channel."""
+    return lambda data: (_at_3(data[f"{WALLS_VARIANT}-5mm-{slope}"])["runout_m"]
+                         / _at_3(data[f"{WALLS_VARIANT}-0mm-{slope}"])["runout_m"])
 
 
 def _fronts_row(label: str, slope: int, clock: tuple[str | None, ...]) -> list[tuple]:
