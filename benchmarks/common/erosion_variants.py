@@ -69,6 +69,11 @@ VARIANTS = {
                                                    "material.viscosity=0.01",
                                                    "boundary.channel_width=0.1",
                                                    "geometry.height=0.145"],
+    # as much material at the gate as a column standing on a 10 mm layer
+    "glass-beads-no-slip-small-eta-walls-15cm": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                                 "material.viscosity=0.01",
+                                                 "boundary.channel_width=0.1",
+                                                 "geometry.height=0.15"],
     "drucker-prager-no-slip-small-eta-walls-taller": ["boundary.bed=no-slip",
                                                       "material.viscosity=0.01",
                                                       "boundary.channel_width=0.1",
