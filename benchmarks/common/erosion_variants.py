@@ -74,6 +74,17 @@ VARIANTS = {
                                                  "material.viscosity=0.01",
                                                  "boundary.channel_width=0.1",
                                                  "geometry.height=0.15"],
+    # the 14 and 14.5 cm rigid columns on a mesh twice as fine: how much of their
+    # difference is the mesh's
+    "glass-beads-no-slip-small-eta-walls-fine": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                                 "material.viscosity=0.01",
+                                                 "boundary.channel_width=0.1",
+                                                 "mesh.size=0.007"],
+    "glass-beads-no-slip-small-eta-walls-taller-fine": [*GLASS_BEADS, "boundary.bed=no-slip",
+                                                        "material.viscosity=0.01",
+                                                        "boundary.channel_width=0.1",
+                                                        "geometry.height=0.145",
+                                                        "mesh.size=0.007"],
     "drucker-prager-no-slip-small-eta-walls-taller": ["boundary.bed=no-slip",
                                                       "material.viscosity=0.01",
                                                       "boundary.channel_width=0.1",
