@@ -62,7 +62,8 @@ def report(folder: Path) -> tuple[str, dict]:
              f"| state | solver | {head} | a (fit) | a (last two) |",
              "|---|---|" + "---|" * (len(sizes) + 2)]
     memory = ["", "Resident memory the direct solve's factor added, MB (first round), and the "
-              "exponent fitted from the second size on:", "", f"| state | solver | {head} | a (fit) |",
+              "exponent fitted from the second size on:", "",
+              f"| state | solver | {head} | a (fit) |",
               "|---|---|" + "---|" * (len(sizes) + 1)]
     for state, rows in found.items():
         n = np.array([r["unknowns"] for r in rows], dtype=float)
