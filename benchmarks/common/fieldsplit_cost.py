@@ -83,7 +83,10 @@ def report(folder: Path) -> tuple[str, dict]:
                 "converged": [c.get("converged", True) for c in counted],
                 "k": fits[solver][0], "exponent": fits[solver][1],
                 "exponent_last_two": slope(n, cpu), "added_mb": added.tolist(),
-                "memory_exponent": mem_fit,
+                "memory_exponent": mem_fit, "at_1e6_s": fits[solver][0] * 1e6 ** fits[solver][1],
+                "memory_at_1e6_mb": (float(np.exp(np.polyval(np.polyfit(
+                    np.log(n[1:]), np.log(np.maximum(added[1:], 1e-3)), 1), np.log(1e6))))
+                    if len(n) > 2 and solver in DIRECT else None),
                 "relative_difference": [c["relative_difference"] for c in counted]}
             cells = [f"{c['cpu_s']:.3g}" + (f" ({c['steps']})" if c["steps"] else "")
                      + ("" if c.get("converged", True) else " fails") for c in counted]
