@@ -228,6 +228,6 @@ def test_the_cost_crossover_solves_the_fitted_lines() -> None:
 
     direct, iterative = (1e-8, 2.0), (1e-5, 1.0)
     assert crossover(direct, iterative) == pytest.approx(1e3)
-    assert crossover(direct, (1e-2, 1.0), ranks=64) == pytest.approx(1e6 / (64 * EFFICIENCY))
+    assert crossover(direct, (1.0, 1.0), ranks=64) == pytest.approx(1e8 / (64 * EFFICIENCY))
     assert crossover(direct, iterative, ranks=16) == 16 * PER_RANK
     assert crossover((1e-8, 1.0), iterative) is None
