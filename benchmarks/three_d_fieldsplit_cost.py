@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import subprocess
 import sys
@@ -107,7 +108,8 @@ def one_size(size: float, states: list[str], rounds: int, out: Path) -> None:
                   "free_unknowns": int(sum(space.FreeDofs())), "unknowns": space.ndof,
                   "rounds": rows,
                   "counted": {name: runs[-1] for name, runs in rows.items()},
-                  "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+                  "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                  "load_average": os.getloadavg()}
         print(json.dumps({"state": state, "size": size, "n": result["free_unknowns"],
                           **{k: (round(v["cpu_s"], 3), v["steps"])
                              for k, v in result["counted"].items()}}), flush=True)
