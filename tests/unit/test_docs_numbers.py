@@ -781,6 +781,18 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
     ("docs/three_d.md", "on 3D elasticity up to {} processors", COST,
      lambda d: d["cited_efficiency"]["processors"], "d", 1),
     ("docs/three_d.md", "the same one-process run to {} s", COST_LSC, "t_end", "g", 1),
+    ("docs/three_d.md", "(LSC {} to 1.38, predicted 1.0 to 1.3", COST,
+     _cost(("lsc-gamg-flexible",), "exponent"), ".2f", 1),
+    ("docs/three_d.md", "(LSC 1.25 to {}, predicted 1.0 to 1.3", COST,
+     _cost(("lsc-gamg-flexible",), "exponent", max), ".2f", 1),
+    ("docs/three_d.md", "`selfp` {} to 1.61, predicted 1.1 to 1.4", COST,
+     _cost(("selfp-gamg-flexible",), "exponent"), ".2f", 1),
+    ("docs/three_d.md", "`selfp` 1.30 to {}, predicted 1.1 to 1.4", COST,
+     _cost(("selfp-gamg-flexible",), "exponent", max), ".2f", 1),
+    ("docs/three_d.md", "within {} of `masterinverse`'s solution.", COST,
+     lambda d: max(json.loads((RESULTS / "three_d_fieldsplit" / (
+         f"fieldsplit_ranks_lsc-gamg-flexible_rigid_scaled_{s}_h{h}_n2.json")).read_text(
+         ))["relative_difference"] for s in STATES for h in ("0.04", "0.02")), ".1e", 1),
     ("docs/three_d.md", "It takes the direct run's {} steps and 111", COST_LSC, "steps", "d", 1),
     ("docs/three_d.md", "38 steps and {} nonlinear iterations, its fronts within 9.9e-13",
      COST_LSC, "nonlinear_iterations", "d", 1),
@@ -2238,6 +2250,16 @@ def test_the_cost_growth_tables_are_their_results_files() -> None:
     for row in rows:
         assert row in page, row
 
+
+@pytest.mark.parametrize("state", ["rest", "flowing", "front"])
+@pytest.mark.parametrize("size", ["0.04", "0.02"])
+def test_lsc_on_two_ranks_takes_one_process_steps_within_one(state: str, size: str) -> None:
+    """docs/three_d.md: LSC, the setting's solve, on two ranks converges within one step of
+    one process's steps."""
+    one, two = (json.loads((RESULTS / "three_d_fieldsplit" / (
+        f"fieldsplit_ranks_lsc-gamg-flexible_rigid_scaled_{state}_h{size}_n{n}.json")
+        ).read_text()) for n in (1, 2))
+    assert two["converged"] and abs(two["steps"] - one["steps"]) <= 1
 
 def test_the_lsc_collapse_row_is_its_results_file() -> None:
     """docs/three_d.md's coarse collapse to 0.03 s with LSC, the setting's solve."""
