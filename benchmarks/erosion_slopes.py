@@ -57,90 +57,17 @@ from common.erosion import (  # noqa: E402
     fronts_table,
     layer_destination,
 )
+from common.erosion_variants import (  # noqa: E402
+    LENGTH,
+    REACH,
+    RIGID_TWIN,
+    VARIANTS,
+)
 from common.results import read_results, report, write_json, write_markdown  # noqa: E402
 from common.runs import collected, flow_duration, run_or_continue  # noqa: E402
 
 from granflow.io.plots import save_figure  # noqa: E402
 
-GLASS_BEADS = ["material.rheology=mu-i", "material.friction_angle_deg=20.9",
-               "material.mu_2_deg=32.76", "material.i0=0.279",
-               "material.grain_diameter=0.00053"]
-# mu_start at the avalanche angle; tau_m = tau_r = 0.02 s (about 3 sqrt(d/g)) and the
-# threshold 1 1/s (benchmarks/hysteresis.py) are the option's defaults
-HYSTERETIC = [*GLASS_BEADS, "material.friction=hysteretic",
-              "material.start_friction_angle_deg=25.5"]
-VARIANTS = {
-    # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
-    # angle), eta = 1 Pa s
-    "drucker-prager": [],
-    "mu-i": ["material.rheology=mu-i"],                  # Jop et al. (2006) glass beads
-    "small-eta": ["material.viscosity=0.01"],            # eta / 100
-    "stop-angle": ["material.friction_angle_deg=23.5",   # friction at the repose angle
-                   "boundary.bed_friction_deg=23.5"],
-    "loose-layer": ["layer.density=1450", "layer.friction_angle_deg=23.5"],  # packing 0.58
-    "side-walls": ["boundary.channel_width=0.1"],        # the experiments' 10 cm channel
-    # column and layer of the glass beads of Jop, Forterre & Pouliquen (2005, J. Fluid Mech.
-    # 541, d = 0.53 mm; 2006, Nature 441): mu(I) from tan 20.9 to tan 32.76 deg, I0 = 0.279;
-    # the rigid bed's Coulomb friction kept at 25.5 deg
-    "glass-beads": GLASS_BEADS,
-    # the same beads flowing, starting at their avalanche angle (module docstring)
-    "hysteretic": HYSTERETIC,
-    # the chosen parameters of the hysteretic law, each by a factor of two (the start
-    # angle by 2 deg), for one slope and layer
-    "hysteretic-tau-x2": [*HYSTERETIC, "material.mobilisation_time=0.04",
-                          "material.rest_time=0.04"],
-    "hysteretic-tau-half": [*HYSTERETIC, "material.mobilisation_time=0.01",
-                            "material.rest_time=0.01"],
-    "hysteretic-rate-x2": [*HYSTERETIC, "material.mobilisation_shear_rate=2.0"],
-    "hysteretic-rate-half": [*HYSTERETIC, "material.mobilisation_shear_rate=0.5"],
-    "hysteretic-start-27.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=27.5"],
-    "hysteretic-start-23.5": [*HYSTERETIC[:-1], "material.start_friction_angle_deg=23.5"],
-    # the regularising viscosity eta / 100 (column and layer): what the sheared layer's
-    # viscous share does to the ratio (benchmarks/erosion_slopes_stress.py)
-    "hysteretic-small-eta": [*HYSTERETIC, "material.viscosity=0.01"],
-    # the nonlocal fluidity law with the glass beads' constants of Henann & Kamrin (2013):
-    # mu_s = tan 20.9, b = 0.9377, A = 0.48 (the law's defaults), d = 0.53 mm
-    "nonlocal": ["material.rheology=nonlocal", "material.friction_angle_deg=20.9",
-                 "material.grain_diameter=0.00053"],
-    # the glass beads' mu(I) with eta / 100 (column and layer) on a rigid bed that does
-    # not slide, or whose friction is the beads' own at the slip's rate (boundary.bed):
-    # the slab test's pair (benchmarks/slab.py) on the collapse
-    "glass-beads-no-slip-small-eta": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                      "material.viscosity=0.01"],
-    "glass-beads-material-small-eta": [*GLASS_BEADS, "boundary.bed=material",
-                                       "material.viscosity=0.01"],
-    # the same on the no-slip bed in the experiments' 10 cm channel: the side walls'
-    # depth-averaged drag (2 mu_w / W) p, mu_w = tan 10.2 deg
-    "glass-beads-no-slip-small-eta-walls": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                            "material.viscosity=0.01",
-                                            "boundary.channel_width=0.1"],
-    # the paper's rate-independent law (Drucker-Prager, 25.5 deg) in the same channel on
-    # the same no-slip bed with eta / 100: the control that says whether the candidate's
-    # gain on the level bed needs the beads' rate dependence
-    "drucker-prager-no-slip-small-eta-walls": ["boundary.bed=no-slip",
-                                               "material.viscosity=0.01",
-                                               "boundary.channel_width=0.1"],
-    # rigid rows only: the column 14.5 cm high, as much material at the gate as a column
-    # standing on a 5 mm layer (the layer under its footprint): that share of a layer
-    # row's gain on the level bed
-    "glass-beads-no-slip-small-eta-walls-taller": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                                   "material.viscosity=0.01",
-                                                   "boundary.channel_width=0.1",
-                                                   "geometry.height=0.145"],
-    "drucker-prager-no-slip-small-eta-walls-taller": ["boundary.bed=no-slip",
-                                                      "material.viscosity=0.01",
-                                                      "boundary.channel_width=0.1",
-                                                      "geometry.height=0.145"],
-}
-RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
-# how far the layer reaches, in rigid runouts: further where the layer may lengthen the
-# runout by more than 30 % (the meshed layer ends mesh.layer_ahead ahead of the flow, so
-# an unused length costs nothing)
-REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta": 2.0}
-# a layer of a fixed length (m), so that it need not wait for its rigid twin: 3 m is twice
-# the furthest front of the rows without walls at 0-19 degrees (1.46 m at 3 s)
-LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0,
-          "drucker-prager-no-slip-small-eta-walls": 3.0}
 SCENARIO = {"rectangle": "rectangle-rigid", "trapezoid": "trapezoid-rigid"}
 HEIGHT = {"rectangle": 0.14, "trapezoid": 0.25}     # above the layer
 ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",

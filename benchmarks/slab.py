@@ -36,6 +36,7 @@ import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from common.erosion_variants import GLASS_BEADS  # noqa: E402
 from common.results import read_results, report, write_json, write_markdown  # noqa: E402
 
 import granflow  # noqa: E402
@@ -44,9 +45,6 @@ from granflow.io.diagnostics import read_diagnostics  # noqa: E402
 from granflow.io.plots import save_figure  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 
-GLASS_BEADS = ["material.rheology=mu-i", "material.friction_angle_deg=20.9",
-               "material.mu_2_deg=32.76", "material.i0=0.279",
-               "material.grain_diameter=0.00053"]
 LAWS = {
     # the paper's constants: friction 25.5 deg inside and on the bed, eta = 1 Pa s
     "drucker-prager": [],
