@@ -80,8 +80,10 @@ def iterative(form, space, rhs, variant: str) -> tuple[dict, object]:
     return record, out
 
 
-def one_size(size: float, states: list[str], rounds: int, out: Path) -> None:
-    """Every state's record at one mesh size (this process)."""
+def one_size(size: float, states: list[str], rounds: int, out: Path,
+             solvers: tuple[str, ...] = SOLVERS) -> None:
+    """Every state's record at one mesh size (this process); with fewer ``solvers`` than
+    all, an out-of-sample check of the fits: check_<state>_h<size>.json, not fitted."""
     import ngsolve as ngs
     from three_d_fieldsplit import picard_system
 
@@ -90,10 +92,10 @@ def one_size(size: float, states: list[str], rounds: int, out: Path) -> None:
         solver, matrix, rhs = picard_system(state, size, 1e-6, 1e-4, None)
         form = solver.nonlinear.picard_system.a
         space = solver.space
-        rows: dict[str, list[dict]] = {name: [] for name in SOLVERS}
+        rows: dict[str, list[dict]] = {name: [] for name in solvers}
         reference = None
         for _ in range(rounds):
-            for name in SOLVERS:
+            for name in solvers:
                 if name in ("umfpack", "pardiso"):
                     record, x = direct(matrix, space, rhs, name)
                 else:
@@ -113,7 +115,8 @@ def one_size(size: float, states: list[str], rounds: int, out: Path) -> None:
         print(json.dumps({"state": state, "size": size, "n": result["free_unknowns"],
                           **{k: (round(v["cpu_s"], 3), v["steps"])
                              for k, v in result["counted"].items()}}), flush=True)
-        (out / f"cost_{state}_h{size:g}.json").write_text(
+        kind = "cost" if solvers == SOLVERS else "check"
+        (out / f"{kind}_{state}_h{size:g}.json").write_text(
             json.dumps(result, indent=1) + "\n", encoding="utf-8")
 
 
@@ -126,6 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/three_d_fieldsplit"))
     parser.add_argument("--table", action="store_true",
                         help="fit the records in --out, print the table, write cost.json/md")
+    parser.add_argument("--solvers", nargs="+", choices=SOLVERS, default=list(SOLVERS),
+                        help="fewer than all: records check_*.json, left out of the fits")
     parser.add_argument("--one-size", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.table:
@@ -145,12 +150,13 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     args.out.mkdir(parents=True, exist_ok=True)
     if args.one_size:
-        one_size(args.size[0], args.state, args.rounds, args.out)
+        one_size(args.size[0], args.state, args.rounds, args.out,
+                 tuple(s for s in SOLVERS if s in args.solvers))
         return 0
     for size in args.size:
         code = subprocess.call([sys.executable, __file__, "--one-size", "--size", str(size),
                                 "--rounds", str(args.rounds), "--out", str(args.out),
-                                "--state", *args.state])
+                                "--state", *args.state, "--solvers", *args.solvers])
         if code:
             return code
     return main(["--table", "--out", str(args.out)])

@@ -119,4 +119,32 @@ def report(folder: Path) -> tuple[str, dict]:
                      for v in entry["crossover"][solver].values()]
             cross.append(f"| {state} | {NAMES[solver]} | {NAMES[entry['direct']]} | "
                          + " | ".join(cells) + " |")
-    return "\n".join(lines + memory + cross), data
+    checks = check(folder, data)
+    return "\n".join(lines + memory + cross + checks), data
+
+
+def check(folder: Path, data: dict) -> list[str]:
+    """The fits against the sizes measured with fewer solvers (check_*.json, not fitted):
+    the measured time per solve over the fit's, recorded in ``data["checks"]``."""
+    found = sorted((json.loads(p.read_text()) for p in folder.glob("check_*_h*.json")),
+                   key=lambda r: (r["unknowns"], STATES.index(r["state"])))
+    if not found:
+        return []
+    lines = ["", "The fits against a larger size measured apart (not fitted): processor "
+             "seconds per solve (steps), measured / the fit's:", "",
+             "| state | solver | unknowns | measured | fit | ratio |", "|---|---|---|---|---|---|"]
+    data["checks"] = []
+    for record in found:
+        for solver, counted in record["counted"].items():
+            fit = data["states"][record["state"]]["solvers"][solver]
+            expected = fit["k"] * record["unknowns"] ** fit["exponent"]
+            data["checks"].append({"state": record["state"], "solver": solver,
+                                   "unknowns": record["unknowns"], "cpu_s": counted["cpu_s"],
+                                   "steps": counted["steps"], "fit_s": expected,
+                                   "converged": counted.get("converged", True),
+                                   "relative_difference": counted["relative_difference"]})
+            steps = f" ({counted['steps']})" if counted["steps"] else ""
+            lines.append(f"| {record['state']} | {NAMES[solver]} | {record['unknowns']:,} | "
+                         f"{counted['cpu_s']:.3g}{steps} | {expected:.3g} | "
+                         f"{counted['cpu_s'] / expected:.2f} |")
+    return lines
