@@ -2,7 +2,8 @@
 size, for the direct solve and for granflow's scaled fieldsplit solve (selfp and LSC).
 
 Run: python benchmarks/three_d_fieldsplit_cost.py [--size 0.04 0.02 0.014 0.01]
-         [--state rest flowing front] [--rounds 2] [--out benchmarks/results/three_d_fieldsplit]
+         [--state rest flowing front] [--rounds 2] [--solvers umfpack lsc-gamg-flexible]
+         [--out benchmarks/results/three_d_fieldsplit]
      python benchmarks/three_d_fieldsplit_cost.py --table [--out ...]
 
 Needs petsc4py and ngspetsc (one line and exit code 2 without them). The systems are
@@ -17,7 +18,9 @@ the resident memory the factor or the fieldsplit solve added (first round), the 
 peak. Writes cost_<state>_h<size>.json; ``--table`` fits the time per solve as k N^a by least
 squares in log-log over the sizes (``common.fieldsplit_cost``), prints the Markdown table and
 writes cost.json and cost.md: the exponents and the size where each fieldsplit variant
-becomes as cheap as the cheaper direct solve, on one process and on P ranks.
+becomes as cheap as the cheaper direct solve, on one process and on P ranks. With
+``--solvers`` fewer than all, the records are check_<state>_h<size>.json, left out of the
+fits, and the table compares them with the fits' times.
 """
 
 from __future__ import annotations
