@@ -31,7 +31,7 @@ Per case: converged or not, FGMRes steps, processor seconds of the set-up and th
 the relative distance to the direct solution. Writes fieldsplit_<state>_h<size>.json under
 --out; the prediction is benchmarks/results/three_d_krylov/PREDICTION_fieldsplit.md.
 
-``--ranks``: ``selfp-gamg`` (or ``--variant selfp-gamg-flexible``, granflow's solve)
+``--ranks``: ``selfp-gamg`` (or ``--variant selfp-gamg-flexible``, granflow's first solve)
 alone on the mesh distributed by NGSolve over the ranks of
 ``mpiexec`` (rank 0 keeps no element, as in ``three_d_krylov.py``), the matrix and the
 vectors handed to PETSc by ngspetsc (``Matrix``, ``VectorMapping``: PETSc spreads the rows
@@ -305,7 +305,8 @@ def main(argv: list[str] | None = None) -> int:
                                               "lsc-gamg-flexible", "cahouet-chabard"),
                         default="selfp-gamg",
                         help="with --ranks: the variant (selfp-gamg-flexible: granflow's "
-                             "numerics.linear_solver = 'fieldsplit'); records "
+                             "numerics.linear_solver = 'fieldsplit' before LSC, "
+                             "lsc-gamg-flexible, its solve now); records "
                              "fieldsplit_ranks_flexible_*")
     parser.add_argument("--rigid-modes", action="store_true",
                         help="with --ranks: GAMG told the velocity's rigid-body modes "

@@ -136,6 +136,53 @@ SCALED_N1_01 = "three_d_fieldsplit/rest_h0.04_n1_fieldsplit_t0.1.json"
 SCALED_N2_01 = "three_d_fieldsplit/rest_h0.04_n2_fieldsplit_t0.1.json"
 
 
+COST = "three_d_fieldsplit/cost.json"
+COST_LSC = "three_d_fieldsplit/lsc/rest_h0.04_n1_fieldsplit_t0.03.json"
+COST_LSC_2 = "three_d_fieldsplit/lsc/rest_h0.04_n2_fieldsplit_t0.03.json"
+DIRECT_SOLVERS = ("umfpack", "pardiso")
+FIELDSPLIT_SOLVERS = ("selfp-gamg-flexible", "lsc-gamg-flexible")
+
+
+def _cost(solvers: tuple[str, ...], key: str, pick: Callable[[list[float]], float] = min,
+          index: int | None = None) -> Callable[[Any], float]:
+    """``pick`` of cost.json's ``key`` over the states and ``solvers`` (an entry per size
+    unless ``index`` picks one size)."""
+    def value(d: Any) -> float:
+        found = []
+        for entry in d["states"].values():
+            for solver in solvers:
+                v = entry["solvers"][solver][key]
+                found += v if isinstance(v, list) and index is None else [
+                    v[index] if isinstance(v, list) else v]
+        return pick(found)
+    return value
+
+
+def _lsc_over(other: str, pick: Callable[[list[float]], float]) -> Callable[[Any], float]:
+    """``pick`` of LSC's time per solve over another solver's, the two largest sizes."""
+    return lambda d: pick([e["solvers"]["lsc-gamg-flexible"]["cpu_s"][i]
+                           / e["solvers"][other]["cpu_s"][i]
+                           for e in d["states"].values() for i in (-2, -1)])
+
+
+def _check_record(state: str) -> Any:
+    return json.loads((RESULTS / f"three_d_fieldsplit/check_{state}_h0.008.json").read_text())
+
+
+def _check(solver: str, pick: Callable[[list[float]], float]) -> Callable[[Any], float]:
+    """``pick`` of measured / fitted time per solve at the size measured apart."""
+    return lambda d: pick([c["cpu_s"] / c["fit_s"] for c in d["checks"]
+                           if c["solver"] == solver])
+
+
+def _lsc_collapse_over(name: str) -> Callable[[Any], float]:
+    return lambda d: d["cpu_s"] / _scaled_collapse(name)["cpu_s"]
+
+
+def _cross(solver: str, ranks: int, pick: Callable[[list[float]], float]) -> Callable[[Any], float]:
+    return lambda d: pick([e["crossover"][solver][str(ranks)] for e in d["states"].values()])
+
+
 def _within(variant: str, key: str, end: int) -> Callable[[Any], float]:
     """One end of a range of three_d_fieldsplit/table.json's ``within_1e-6``."""
     return lambda d: d["within_1e-6"][variant][key][end]
@@ -692,6 +739,134 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
      "max:[schur=cahouet-chabard].gmres_steps", "d", 1),
     ("docs/three_d.md", "in residual ({} steps) leaves the velocity", KRYLOV_PLUG,
      "[eps=1e-06&schur=cahouet-chabard].gmres_steps", "d", 1),
+    # --- the cost growth (benchmarks/three_d_fieldsplit_cost.py)
+    ("docs/three_d.md", "every solve converged, within {} of UMFPACK's solution", COST,
+     _cost(FIELDSPLIT_SOLVERS, "relative_difference", max), ".1e", 1),
+    ("docs/three_d.md", "The direct solves grow as N^{} to N^1.7", COST,
+     _cost(DIRECT_SOLVERS, "exponent"), ".1f", 1),
+    ("docs/three_d.md", "grow as N^1.5 to N^{} in these sizes", COST,
+     _cost(DIRECT_SOLVERS, "exponent", max), ".1f", 1),
+    ("docs/three_d.md", "between the two largest sizes, up to {}, is rising", COST,
+     _cost(DIRECT_SOLVERS, "exponent_last_two", max), ".1f", 1),
+    ("docs/three_d.md", "the fieldsplit solves as N^{} to N^1.6", COST,
+     _cost(FIELDSPLIT_SOLVERS, "exponent"), ".2f", 1),
+    ("docs/three_d.md", "as N^1.25 to N^{}, more than", COST,
+     _cost(FIELDSPLIT_SOLVERS, "exponent", max), ".1f", 1),
+    ("docs/three_d.md", "grow little with LSC ({} to 34 at rest)", COST,
+     lambda d: d["states"]["rest"]["solvers"]["lsc-gamg-flexible"]["steps"][0], "d", 1),
+    ("docs/three_d.md", "grow little with LSC (26 to {} at rest)", COST,
+     lambda d: d["states"]["rest"]["solvers"]["lsc-gamg-flexible"]["steps"][-1], "d", 1),
+    ("docs/three_d.md", "at rest and on the front (15 to {}, 11 to 43)", COST,
+     lambda d: d["states"]["rest"]["solvers"]["selfp-gamg-flexible"]["steps"][-1], "d", 1),
+    ("docs/three_d.md", "at rest and on the front (15 to 59, 11 to {})", COST,
+     lambda d: d["states"]["front"]["solvers"]["selfp-gamg-flexible"]["steps"][-1], "d", 1),
+    ("docs/three_d.md", "state, {} to 0.72 times `selfp`'s at 18,192", COST,
+     _lsc_over("selfp-gamg-flexible", min), ".2f", 1),
+    ("docs/three_d.md", "state, 0.28 to {} times `selfp`'s at 18,192", COST,
+     _lsc_over("selfp-gamg-flexible", max), ".2f", 1),
+    ("docs/three_d.md", "and still {} to 5.8 times UMFPACK's at 37,274", COST,
+     lambda d: min(e["solvers"]["lsc-gamg-flexible"]["cpu_s"][-1]
+                   / e["solvers"]["umfpack"]["cpu_s"][-1] for e in d["states"].values()),
+     ".1f", 1),
+    ("docs/three_d.md", "and still 3.9 to {} times UMFPACK's at 37,274", COST,
+     lambda d: max(e["solvers"]["lsc-gamg-flexible"]["cpu_s"][-1]
+                   / e["solvers"]["umfpack"]["cpu_s"][-1] for e in d["states"].values()),
+     ".1f", 1),
+    ("docs/three_d.md", "grows as N^{} to N^1.7 here (N^4/3", COST,
+     _cost(DIRECT_SOLVERS, "memory_exponent"), ".1f", 1),
+    ("docs/three_d.md", "grows as N^1.4 to N^{} here (N^4/3", COST,
+     _cost(DIRECT_SOLVERS, "memory_exponent", max), ".1f", 1),
+    ("docs/three_d.md", "peaked at {} to 1.2 GB at 37,274", COST,
+     lambda d: min(e["peak_rss_mb"][-1] for e in d["states"].values()), ".1f", 1 / 1024),
+    ("docs/three_d.md", "peaked at 1.1 to {} GB at 37,274", COST,
+     lambda d: max(e["peak_rss_mb"][-1] for e in d["states"].values()), ".1f", 1 / 1024),
+    ("docs/three_d.md", "LSC becomes as cheap as UMFPACK at {} to 9e6", COST,
+     _cross("lsc-gamg-flexible", 1, min), ".1e", 1),
+    ("docs/three_d.md", "as cheap as UMFPACK at 1.5e6 to {} unknowns", COST,
+     _cross("lsc-gamg-flexible", 1, max), ".0e", 1),
+    ("docs/three_d.md", "`selfp` at {} flowing", COST,
+     lambda d: d["states"]["flowing"]["crossover"]["selfp-gamg-flexible"]["1"], ".1e", 1),
+    ("docs/three_d.md", "a parallel efficiency of {}, and only", COST, "efficiency", "g", 1),
+    ("docs/three_d.md", "every rank holds at least {} unknowns", COST, "per_rank", ",d", 1),
+    ("docs/three_d.md", "measured about {} % parallel efficiency", COST,
+     lambda d: d["cited_efficiency"]["value"], ".0f", 100),
+    ("docs/three_d.md", "on 3D elasticity up to {} processors", COST,
+     lambda d: d["cited_efficiency"]["processors"], "d", 1),
+    ("docs/three_d.md", "the same one-process run to {} s", COST_LSC, "t_end", "g", 1),
+    ("docs/three_d.md", "average over a minute {} to 6.1 at the end of each state", COST,
+     lambda d: min(_check_record(s)["load_average"][0] for s in STATES), ".1f", 1),
+    ("docs/three_d.md", "average over a minute 5.7 to {} at the end of each state", COST,
+     lambda d: max(_check_record(s)["load_average"][0] for s in STATES), ".1f", 1),
+    ("docs/three_d.md", "At {} unknowns UMFPACK took", COST,
+     lambda d: d["checks"][0]["unknowns"], ",d", 1),
+    ("docs/three_d.md", "UMFPACK took {} to 1.54 times its fit's time", COST,
+     _check("umfpack", min), ".2f", 1),
+    ("docs/three_d.md", "UMFPACK took 1.12 to {} times its fit's time", COST,
+     _check("umfpack", max), ".2f", 1),
+    ("docs/three_d.md", "and LSC {} to 1.11 times its own", COST,
+     _check("lsc-gamg-flexible", min), ".2f", 1),
+    ("docs/three_d.md", "and LSC 0.83 to {} times its own", COST,
+     _check("lsc-gamg-flexible", max), ".2f", 1),
+    ("docs/three_d.md", "iterations and {} GMRes steps, its fronts within 1.0e-12", COST_LSC_2,
+     "krylov_iterations", "d", 1),
+    ("docs/three_d.md", "its fronts within {} m of `masterinverse`'s at the centre, in 0.63",
+     COST_LSC_2, lambda d: abs(d["runout_centre_m"] - _scaled_collapse("n2_t0.03")[
+         "runout_centre_m"]), ".1e", 1),
+    ("docs/three_d.md", "in {} times `selfp`'s processor time on two", COST_LSC_2,
+     _lsc_collapse_over("n2_fieldsplit_t0.03"), ".2f", 1),
+    ("docs/three_d.md", "ranks and {} times `masterinverse`'s (MPICH", COST_LSC_2,
+     _lsc_collapse_over("n2_t0.03"), ".1f", 1),
+    ("docs/three_d.md", "(LSC {} to 1.38, predicted 1.0 to 1.3", COST,
+     _cost(("lsc-gamg-flexible",), "exponent"), ".2f", 1),
+    ("docs/three_d.md", "(LSC 1.25 to {}, predicted 1.0 to 1.3", COST,
+     _cost(("lsc-gamg-flexible",), "exponent", max), ".2f", 1),
+    ("docs/three_d.md", "`selfp` {} to 1.61, predicted 1.1 to 1.4", COST,
+     _cost(("selfp-gamg-flexible",), "exponent"), ".2f", 1),
+    ("docs/three_d.md", "`selfp` 1.30 to {}, predicted 1.1 to 1.4", COST,
+     _cost(("selfp-gamg-flexible",), "exponent", max), ".2f", 1),
+    ("docs/three_d.md", "within {} of `masterinverse`'s solution.", COST,
+     lambda d: max(json.loads((RESULTS / "three_d_fieldsplit" / (
+         f"fieldsplit_ranks_lsc-gamg-flexible_rigid_scaled_{s}_h{h}_n2.json")).read_text(
+         ))["relative_difference"] for s in STATES for h in ("0.04", "0.02")), ".1e", 1),
+    ("docs/three_d.md", "It takes the direct run's {} steps and 111", COST_LSC, "steps", "d", 1),
+    ("docs/three_d.md", "38 steps and {} nonlinear iterations, its fronts within 9.9e-13",
+     COST_LSC, "nonlinear_iterations", "d", 1),
+    ("docs/three_d.md", "on 16 and 64 ranks at {} and 6.4e5 unknowns", COST,
+     _cross("lsc-gamg-flexible", 16, max), ".1e", 1),
+    ("docs/three_d.md", "on 16 and 64 ranks at 1.6e5 and {} unknowns", COST,
+     _cross("lsc-gamg-flexible", 64, max), ".1e", 1),
+    ("docs/three_d.md", "on every state from about {} unknowns on 16 ranks", COST,
+     _cross("lsc-gamg-flexible", 16, max), ".1e", 1),
+    ("docs/three_d.md", "the fits give UMFPACK about {} s per solve at rest", COST,
+     lambda d: d["states"]["rest"]["solvers"]["umfpack"]["at_1e6_s"], ".0f", 1),
+    ("docs/three_d.md", "a factor of about {} GB on one node", COST,
+     lambda d: d["states"]["rest"]["solvers"]["umfpack"]["memory_at_1e6_mb"], ".0f", 1 / 1024),
+    ("docs/three_d.md", "on one node ({} to 113 GB by", COST,
+     _cost(DIRECT_SOLVERS, "memory_at_1e6_mb"), ".0f", 1 / 1024),
+    ("docs/three_d.md", "on one node (46 to {} GB by", COST,
+     _cost(DIRECT_SOLVERS, "memory_at_1e6_mb", max), ".0f", 1 / 1024),
+    ("docs/three_d.md", "against LSC's {} s on one process", COST,
+     lambda d: d["states"]["rest"]["solvers"]["lsc-gamg-flexible"]["at_1e6_s"], ".0f", 1),
+    ("docs/three_d.md", "about {} s on 100 ranks", COST,
+     lambda d: d["states"]["rest"]["solvers"]["lsc-gamg-flexible"]["at_1e6_s"]
+     / (100 * d["efficiency"]), ".0f", 1),
+    ("docs/three_d.md", "The fits are extrapolated {} times past", COST,
+     lambda d: 1e6 / d["states"]["rest"]["unknowns"][-1], ".0f", 1),
+    ("docs/three_d.md", "{} m of the direct run's at the centre and 1.9e-12", COST_LSC,
+     _scaled_apart("runout_centre_m", "n1_t0.03"), ".1e", 1),
+    ("docs/three_d.md", "at the centre and {} m at the wall; it takes", COST_LSC,
+     _scaled_apart("runout_wall_m", "n1_t0.03"), ".1e", 1),
+    ("docs/three_d.md", "it takes {} times `selfp`'s GMRes steps", COST_LSC,
+     lambda d: d["krylov_iterations"] / _scaled_collapse("n1_fieldsplit_t0.03")[
+         "krylov_iterations"], ".1f", 1),
+    ("docs/three_d.md", "(at most {} in one solve) but", COST_LSC, "krylov_largest", "d", 1),
+    ("docs/three_d.md", "but {} times its processor time", COST_LSC,
+     _lsc_collapse_over("n1_fieldsplit_t0.03"), ".2f", 1),
+    ("docs/three_d.md", "its processor time, {} times the direct run's", COST_LSC,
+     _lsc_collapse_over("n1_t0.03"), ".1f", 1),
+    ("docs/three_d.md", "({} s of it in the fieldsplit solves, cProfile's", COST_LSC,
+     lambda d: next(p["own_s"] for p in d["profile"] if "fieldsplit" in p["function"]),
+     ".0f", 1),
     # --- the scaled fieldsplit solve (benchmarks/three_d_fieldsplit.py --scaled)
     ("docs/three_d.md", "it takes the same {} steps, 190\niterations and 2148", SCALED_N2_01,
      "steps", "d", 1),
@@ -2090,6 +2265,49 @@ def test_the_scaled_fieldsplit_collapse_table_is_its_results_files(row: str) -> 
             f"{d['runout_centre_m']:.6f} / {d['runout_wall_m']:.6f} | {krylov} | "
             f"{d['cpu_s']:.1f} | {load[0]:.1f}, {load[3]:.1f} |")
     assert line in (ROOT / "docs" / "three_d.md").read_text(encoding="utf-8"), line
+
+
+def test_the_cost_growth_tables_are_their_results_files() -> None:
+    """docs/three_d.md's cost-growth tables: what three_d_fieldsplit_cost.py --table draws
+    from the records (cost.md), row by row."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from common.fieldsplit_cost import report
+
+    drawn, data = report(RESULTS / "three_d_fieldsplit")
+    assert drawn + "\n" == (RESULTS / "three_d_fieldsplit/cost.md").read_text()
+    assert data == json.loads((RESULTS / COST).read_text())
+    page = (ROOT / "docs" / "three_d.md").read_text(encoding="utf-8")
+    rows = [r for r in drawn.splitlines() if r.startswith("| ") and "---" not in r]
+    assert len(rows) > 20
+    for row in rows:
+        assert row in page, row
+
+
+@pytest.mark.parametrize("state", ["rest", "flowing", "front"])
+@pytest.mark.parametrize("size", ["0.04", "0.02"])
+def test_lsc_on_two_ranks_takes_one_process_steps_within_one(state: str, size: str) -> None:
+    """docs/three_d.md: LSC, the setting's solve, on two ranks converges within one step of
+    one process's steps."""
+    one, two = (json.loads((RESULTS / "three_d_fieldsplit" / (
+        f"fieldsplit_ranks_lsc-gamg-flexible_rigid_scaled_{state}_h{size}_n{n}.json")
+        ).read_text()) for n in (1, 2))
+    assert two["converged"] and abs(two["steps"] - one["steps"]) <= 1
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_the_lsc_collapse_row_is_its_results_file(ranks: int) -> None:
+    """docs/three_d.md's coarse collapse to 0.03 s with LSC, the setting's solve."""
+    d = json.loads((RESULTS / (COST_LSC if ranks == 1 else COST_LSC_2)).read_text())
+    load = d["load_average"]
+    line = (f"| {ranks}, fieldsplit (LSC) | {d['steps']} | {d['nonlinear_iterations']} | "
+            f"{d['runout_centre_m']:.6f} / {d['runout_wall_m']:.6f} | "
+            f"{d['krylov_iterations']} ({d['krylov_largest']}) | "
+            f"{d['cpu_s']:.1f} | {load[0]:.1f}, {load[3]:.1f} |")
+    assert line in (ROOT / "docs" / "three_d.md").read_text(encoding="utf-8"), line
+    direct = _scaled_collapse(f"n{ranks}_t0.03")
+    assert (d["steps"], d["nonlinear_iterations"]) == (direct["steps"],
+                                                       direct["nonlinear_iterations"])
 
 
 def _fronts_apart(key: str, ranks: int) -> Callable[[Any], float]:

@@ -216,3 +216,18 @@ def test_the_time_loop_retries_a_failed_solve_smaller() -> None:
     assert result.status == "completed"
     assert result.rejections == {"exception": 1}
     assert solver.attempts[:2] == [1e-3, 5e-4]
+
+
+def test_the_cost_crossover_solves_the_fitted_lines() -> None:
+    """benchmarks/common/fieldsplit_cost.py: where k_i N^a_i / (P e) meets k_d N^a_d, the
+    per-rank floor on P ranks, and no crossing where the direct solve grows no faster."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    from common.fieldsplit_cost import EFFICIENCY, PER_RANK, crossover
+
+    direct, iterative = (1e-8, 2.0), (1e-5, 1.0)
+    assert crossover(direct, iterative) == pytest.approx(1e3)
+    assert crossover(direct, (1.0, 1.0), ranks=64) == pytest.approx(1e8 / (64 * EFFICIENCY))
+    assert crossover(direct, iterative, ranks=16) == 16 * PER_RANK
+    assert crossover((1e-8, 1.0), iterative) is None

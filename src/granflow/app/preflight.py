@@ -40,7 +40,7 @@ def solver_label(config: Config) -> str:
 
     solver = direct_solver(config.numerics.linear_solver)
     if solver == "fieldsplit":
-        return "PETSc fieldsplit GMRes (Schur selfp, GAMG)"
+        return "PETSc fieldsplit GMRes (Schur LSC, GAMG)"
     if solver == "umfpack" and config.numerics.linear_solver == "auto":
         return "UMFPACK (Intel MKL not found: pip install mkl for PARDISO)"
     return solver.upper()
