@@ -11,6 +11,10 @@ GLASS_BEADS = ["material.rheology=mu-i", "material.friction_angle_deg=20.9",
 # threshold 1 1/s (benchmarks/hysteresis.py) are the option's defaults
 HYSTERETIC = [*GLASS_BEADS, "material.friction=hysteretic",
               "material.start_friction_angle_deg=25.5"]
+# the candidate's bed and channel: no-slip, eta / 100, the experiments' 10 cm side walls
+CHANNEL = ["boundary.bed=no-slip", "material.viscosity=0.01", "boundary.channel_width=0.1"]
+TALLER = "geometry.height=0.145"   # the rectangle's 14 cm and a 5 mm layer's material under it
+FINE = "mesh.size=0.007"           # half the scenario's cells' size
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
     # angle), eta = 1 Pa s
@@ -53,42 +57,21 @@ VARIANTS = {
                                        "material.viscosity=0.01"],
     # the same on the no-slip bed in the experiments' 10 cm channel: the side walls'
     # depth-averaged drag (2 mu_w / W) p, mu_w = tan 10.2 deg
-    "glass-beads-no-slip-small-eta-walls": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                            "material.viscosity=0.01",
-                                            "boundary.channel_width=0.1"],
+    "glass-beads-no-slip-small-eta-walls": [*GLASS_BEADS, *CHANNEL],
     # the paper's rate-independent law (Drucker-Prager, 25.5 deg) in the same channel on
     # the same no-slip bed with eta / 100: the control that says whether the candidate's
     # gain on the level bed needs the beads' rate dependence
-    "drucker-prager-no-slip-small-eta-walls": ["boundary.bed=no-slip",
-                                               "material.viscosity=0.01",
-                                               "boundary.channel_width=0.1"],
+    "drucker-prager-no-slip-small-eta-walls": CHANNEL,
     # rigid rows only: the column 14.5 cm high, as much material at the gate as a column
     # standing on a 5 mm layer (the layer under its footprint): that share of a layer
-    # row's gain on the level bed
-    "glass-beads-no-slip-small-eta-walls-taller": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                                   "material.viscosity=0.01",
-                                                   "boundary.channel_width=0.1",
-                                                   "geometry.height=0.145"],
-    # as much material at the gate as a column standing on a 10 mm layer
-    "glass-beads-no-slip-small-eta-walls-15cm": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                                 "material.viscosity=0.01",
-                                                 "boundary.channel_width=0.1",
-                                                 "geometry.height=0.15"],
+    # row's gain on the level bed; 15 cm, as on a 10 mm layer
+    "glass-beads-no-slip-small-eta-walls-taller": [*GLASS_BEADS, *CHANNEL, TALLER],
+    "drucker-prager-no-slip-small-eta-walls-taller": [*CHANNEL, TALLER],
+    "glass-beads-no-slip-small-eta-walls-15cm": [*GLASS_BEADS, *CHANNEL, "geometry.height=0.15"],
     # the 14 and 14.5 cm rigid columns on a mesh twice as fine: how much of their
     # difference is the mesh's
-    "glass-beads-no-slip-small-eta-walls-fine": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                                 "material.viscosity=0.01",
-                                                 "boundary.channel_width=0.1",
-                                                 "mesh.size=0.007"],
-    "glass-beads-no-slip-small-eta-walls-taller-fine": [*GLASS_BEADS, "boundary.bed=no-slip",
-                                                        "material.viscosity=0.01",
-                                                        "boundary.channel_width=0.1",
-                                                        "geometry.height=0.145",
-                                                        "mesh.size=0.007"],
-    "drucker-prager-no-slip-small-eta-walls-taller": ["boundary.bed=no-slip",
-                                                      "material.viscosity=0.01",
-                                                      "boundary.channel_width=0.1",
-                                                      "geometry.height=0.145"],
+    "glass-beads-no-slip-small-eta-walls-fine": [*GLASS_BEADS, *CHANNEL, FINE],
+    "glass-beads-no-slip-small-eta-walls-taller-fine": [*GLASS_BEADS, *CHANNEL, TALLER, FINE],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
