@@ -304,9 +304,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--variant", choices=("selfp-gamg", "selfp-gamg-flexible",
                                               "lsc-gamg-flexible", "cahouet-chabard"),
                         default="selfp-gamg",
-                        help="with --ranks: the variant (selfp-gamg-flexible: granflow's "
-                             "numerics.linear_solver = 'fieldsplit' before LSC, "
-                             "lsc-gamg-flexible, its solve now); records "
+                        help="with --ranks: the variant (selfp-gamg-flexible: the Schur "
+                             "complement by selfp; lsc-gamg-flexible: by LSC, granflow's "
+                             "numerics.linear_solver = 'fieldsplit'); records "
                              "fieldsplit_ranks_flexible_*")
     parser.add_argument("--rigid-modes", action="store_true",
                         help="with --ranks: GAMG told the velocity's rigid-body modes "
