@@ -13,8 +13,8 @@ algebraic multigrid (GAMG) told the velocity's rigid-body modes, the Schur compl
 PETSc's least-squares commutator scaled by the velocity block's diagonal (LSC, its pressure
 Poisson solve by one GAMG cycle). Every part is distributed. ``VARIANTS`` holds the others
 benchmarks/three_d_fieldsplit.py measures (``selfp``, A11 - A10 diag(A00)^-1 A01 with one
-GAMG cycle, the setting's solve before LSC's lower cost per solve was measured, and
-Cahouet-Chabard among them); docs/three_d.md gives the measurements and why this one.
+GAMG cycle, dearer per solve than LSC, and Cahouet-Chabard among them); docs/three_d.md
+gives the measurements and why this one.
 
 Why not one GAMG cycle on the velocity inside left-preconditioned GMRes (``selfp-gamg``):
 on the collapse's own systems a few steps in its preconditioned residual stagnated and the
