@@ -61,6 +61,7 @@ def each(text: str, *numbers: Number, page: str = "docs/erosion.md") -> list[tup
 
 
 B, D = BEADS, DP
+GAINS = [("5mm-0", "0mm-0"), ("10mm-0", "0mm-0"), ("5mm-10", "0mm-10")]   # level and 10 deg
 mm = 1e3
 CLAIMS: list[tuple] = [
     # every row carried on
@@ -189,4 +190,27 @@ CLAIMS: list[tuple] = [
     *each("So the level and 10° gains, +{} to +{} mm, are",
           (lead(f"{B}/10mm-0", f"{B}/0mm-0", None), ".0f", mm),
           (lead(f"{B}/5mm-10", f"{B}/0mm-10", None), ".0f", mm)),
+    # the level rigid columns on a mesh twice as fine
+    *each("mesh.size 0.007 m, {} triangles) the 14 cm rigid column runs {} m, {} mm ({} %) beyond"
+          " the study's {} m",
+          (row(f"{B}-fine", "0mm-0", "n_triangles"), ",d", 1),
+          (row(f"{B}-fine", "0mm-0", "runout_m"), ".4f", 1),
+          (lead(f"{B}-fine/0mm-0", f"{B}/0mm-0", None), ".1f", mm),
+          (lambda d: ratio(f"{B}-fine/0mm-0", f"{B}/0mm-0")(d) - 1, ".1f", 100),
+          (row(B, "0mm-0", "runout_m"), ".4f", 1)),
+    *each("and the 14.5 cm one {} m, +{} mm on it where the study's mesh gives +{} mm",
+          (row(f"{B}-taller-fine", "0mm-0", "runout_m"), ".4f", 1),
+          (lead(f"{B}-taller-fine/0mm-0", f"{B}-fine/0mm-0", None), ".1f", mm),
+          (lead(f"{B}-taller/0mm-0", f"{B}/0mm-0", None), ".1f", mm)),
+    *each("coarse response to the height is scatter of about {} mm.",
+          (lambda d: lead(f"{B}-taller-fine/0mm-0", f"{B}-fine/0mm-0", None)(d)
+           - lead(f"{B}-taller/0mm-0", f"{B}/0mm-0", None)(d), ".0f", mm)),
+    *each("(the 14 cm rigid column +{} % on a mesh twice as fine; 5 mm more column +{} mm on it,"
+          " +{} on the study's)",
+          (lambda d: ratio(f"{B}-fine/0mm-0", f"{B}/0mm-0")(d) - 1, ".1f", 100),
+          (lead(f"{B}-taller-fine/0mm-0", f"{B}-fine/0mm-0", None), ".1f", mm),
+          (lead(f"{B}-taller/0mm-0", f"{B}/0mm-0", None), ".1f", mm), page="docs/verification.md"),
+    *each("a level or 10° gain of {}–{} %",
+          (lambda d: min(ratio(f"{B}/{h}", f"{B}/{r}")(d) - 1 for h, r in GAINS), ".1f", 100),
+          (lambda d: max(ratio(f"{B}/{h}", f"{B}/{r}")(d) - 1 for h, r in GAINS), ".1f", 100)),
 ]
