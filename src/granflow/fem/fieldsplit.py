@@ -278,11 +278,6 @@ class FieldsplitSolve:
             matrix.diagonalScale(L=self._d, R=self._d)
             if self._near_null_space:
                 system.velocity.compose("nearnullspace", system.rigid_modes(self._d))
-        pressure_d = None
-        if self._d is not None:
-            part = self._d.getSubVector(system.pressure)
-            pressure_d = part.copy()
-            self._d.restoreSubVector(system.pressure, part)
         if self._ksp is None:
             self._ksp = PETSc.KSP().create(comm=matrix.getComm())
             self._ksp.setOptionsPrefix(PREFIX + self.variant.replace("-", "_") + "_")
@@ -302,8 +297,17 @@ class FieldsplitSolve:
                 schur_pc = self._ksp.getPC().getFieldSplitSubKSP()[1].getPC()
                 schur_pc.setType("python")
                 schur_pc.setPythonContext(self._shell)
-            self._shell.update(mass, laplace, pressure_d)
+            self._shell.update(mass, laplace, self._pressure_scaling())
         self.factorisations += 1
+
+    def _pressure_scaling(self) -> Any:
+        """The pressure rows' part of the diagonal scaling (None unscaled)."""
+        if self._d is None or self._system is None:
+            return None
+        part = self._d.getSubVector(self._system.pressure)
+        pressure_d = part.copy()
+        self._d.restoreSubVector(self._system.pressure, part)
+        return pressure_d
 
     def _pressure_matrix(self, form: ngs.BilinearForm) -> Any:
         assert self._system is not None
