@@ -6,6 +6,7 @@ stopped short of its tolerance raising ``LinearSolveFailed``."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -81,6 +82,14 @@ def _apart(solver, a: ngs.BaseVector, b: ngs.BaseVector) -> list[float]:
             for s in (slice(0, split), slice(split, None))]
 
 
+def _assembled_picard(solver: Any) -> Any:
+    """The flow solver's Picard system, its matrix and right-hand side assembled."""
+    picard = solver.nonlinear.picard_system
+    picard.prepare()
+    picard.assemble()
+    return picard
+
+
 @pytest.mark.parametrize("system", ["picard", "newton"])
 def test_fieldsplit_solves_as_the_direct_solve(system: str) -> None:
     pytest.importorskip("petsc4py")
@@ -91,9 +100,7 @@ def test_fieldsplit_solves_as_the_direct_solve(system: str) -> None:
     solver = _flow(system)
     nonlinear = solver.nonlinear
     if system == "picard":
-        picard = nonlinear.picard_system
-        picard.prepare()
-        picard.assemble()
+        picard = _assembled_picard(solver)
         form, rhs = picard.a, picard.f.vec
     else:
         newton = nonlinear.newton_system
@@ -119,9 +126,7 @@ def test_a_solve_short_of_its_tolerance_fails() -> None:
     from granflow.fem.fieldsplit import FieldsplitSolve, LinearSolveFailed
 
     solver = _flow("picard")
-    picard = solver.nonlinear.picard_system
-    picard.prepare()
-    picard.assemble()
+    picard = _assembled_picard(solver)
     short = FieldsplitSolve(picard.a, solver.space.FreeDofs(), max_steps=2)
     short.update()
     with pytest.raises(LinearSolveFailed, match="stopped after 2 steps"):
@@ -166,9 +171,7 @@ def test_the_solver_of_a_new_mesh_carries_the_krylov_work_on() -> None:
     from granflow.fem.coupling import Carriers
 
     old = _flow("picard")
-    picard = old.nonlinear.picard_system
-    picard.prepare()
-    picard.assemble()
+    picard = _assembled_picard(old)
     picard.lu.update()
     picard.lu.solve(picard.f.vec, picard.f.vec.CreateVector())
     work = old.linear_work()
