@@ -12,20 +12,23 @@ first: the layer then reaches 1.3 times its runout (the layer must not end under
 Runs go to OUT/runs/VARIANT/SHAPE-HEmm-SLOPE (HE = 0 is the rigid bed); a finished run is
 kept and one with a checkpoint (every 100 steps) continued, so rerunning the command
 continues the study; a finished row already in OUT/erosion_slopes.json with the same
-overrides is kept without its run folder (a fresh clone has none). A run interrupted
-(SIGINT, SIGTERM) is recorded as it stands (its front in time, ``interrupted``) and ends
-the invocation. ``--t-end T`` carries the study past its 3 s: a row that reached 3 s
-still moving is continued from its checkpoint to T (``granflow resume --set time.t_end=T``;
-a row at rest is kept); each row records the end time it ran to (``t_end``) and, once
-carried, its earlier figures by end time (``earlier``). A row carried further is kept as it
-is by an invocation with an earlier end (the default's): never run again or shortened. OUT/
+overrides (or a longer bed, ``common/carry.same_run``) is kept without its run folder (a
+fresh clone has none). A run interrupted (SIGINT, SIGTERM) is recorded as it stands (its
+front in time, ``interrupted``) and ends the invocation; its folder is packed into
+OUT/carried/NAME.tar.gz, which a fresh clone's invocation unpacks and continues (a run
+longer than a session travels in the repository; the archive goes once the row is
+finished). ``--t-end T`` carries the study past its 3 s: a row that reached 3 s still
+moving is continued from its checkpoint to T (``granflow resume --set time.t_end=T``; a row
+at rest is kept); each row records the end time it ran to (``t_end``) and, once carried,
+its earlier figures by end time (``earlier``). A row carried further is kept as it is by an
+invocation with an earlier end (the default's): never run again or shortened. OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
 erosion_slopes.png the ratio against slope, OUT/erosion_slopes_fronts.md each layer row's
 front against its rigid twin's in time, the fronts' speeds at the end and where the
 displaced layer material went (``common/erosion.py``). The flow duration is the time the
 flowing area falls below 1 % (``common/runs.flow_duration``). Two invocations may run
-different rows into the same OUT at once: each row is written into the record as it is
-on disk then.
+different rows into the same OUT at once: each row is written into the record as it is on
+disk then.
 
 Experimental reference (what could be checked here; the papers' tables were not reachable):
 on glass beads (repose angle about 23.5 deg, avalanche angle about 25.5 deg), an erodible
@@ -48,7 +51,17 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from common.carry import STUDY_END, carried, ended, settled, with_earlier  # noqa: E402
+from common.carry import (  # noqa: E402
+    BED_LENGTH,
+    STUDY_END,
+    carried,
+    ended,
+    pack,
+    same_run,
+    settled,
+    unpack,
+    with_earlier,
+)
 from common.erosion import (  # noqa: E402
     CLOCK,
     destination_table,
@@ -97,7 +110,7 @@ def overrides(variant: str, shape: str, he: float, slope: float,
         length = LENGTH.get(variant) or (
             max(1.0, reach * rigid_runout) if rigid_runout else 1.0 + 0.05 * slope)
         out += [*ERODIBLE, f"mesh.layer_cells={cells}", f"geometry.erodible_thickness={he!r}",
-                f"geometry.height={HEIGHT[shape] + he!r}", f"geometry.bed_length={length!r}"]
+                f"geometry.height={HEIGHT[shape] + he!r}", f"{BED_LENGTH}{length!r}"]
     return out
 
 
@@ -108,11 +121,13 @@ def run(variant: str, shape: str, he: float, slope: float, rigid: float | None,
     else its folder) at rest or at ``t_end`` or later, continued from its checkpoint (to
     ``t_end`` if it reached an earlier end still moving), else run afresh."""
     found = overrides(variant, shape, he, slope, rigid, cells)
-    same = bool(done) and done.get("overrides", found) == found
+    same = bool(done) and same_run(done.get("overrides", found), found)
     if same and settled(done, t_end):
         return done
-    summary = carried(run_or_continue(SCENARIO[shape], found, out), out, t_end)
-    return with_earlier(row_of(summary, out) | {"overrides": found}, done if same else None)
+    used = done["overrides"] if same and done else found   # an interrupted run as it began
+    summary = carried(run_or_continue(SCENARIO[shape], used, out), out, t_end)
+    return with_earlier(row_of(summary, out) | {"overrides": used}, done if same else None)
+
 
 
 def row_of(summary: dict, out: Path) -> dict:
@@ -343,6 +358,7 @@ def main() -> None:
                         continue
                     name = key(variant, shape, he, slope, args.cells)
                     folder = args.out / "runs" / name
+                    archive = args.out / "carried" / f"{name}.tar.gz"
                     results = read_results(store)   # with rows another invocation ran
                     if args.collect:
                         summary = collected(folder)
@@ -350,6 +366,8 @@ def main() -> None:
                             continue
                         row = with_earlier(row_of(summary, folder), results.get(name))
                     else:
+                        if unpack(archive, folder):
+                            print(f"{name}: continued from {archive}")
                         rigid = results.get(rigid_key(variant, shape, slope), {}).get("runout_m")
                         row = run(variant, shape, he, slope, rigid, folder, args.cells,
                                   results.get(name), args.t_end)
@@ -362,10 +380,12 @@ def main() -> None:
                     write_markdown(args.out / "erosion_slopes_ratios.md", ratio_table(results))
                     write_markdown(args.out / "erosion_slopes_fronts.md", where(results))
                     if results[name].get("status") == "interrupted":   # SIGINT or SIGTERM
+                        pack(folder, archive)
                         print(f"{name} interrupted: the study stops here; the same command "
-                              "continues it from the run's checkpoint")
+                              f"continues it from the run's checkpoint (packed into {archive})")
                         figure(results, args.out / "erosion_slopes.png")
                         return
+                    archive.unlink(missing_ok=True)     # finished: no longer carried
     figure(results, args.out / "erosion_slopes.png")
     print(table(results))
 

@@ -2,17 +2,21 @@
 its end still moving is continued from its checkpoint (``granflow.resume`` with a later
 ``time.t_end``); a row records the end it ran to and keeps its figures at the earlier ends,
 so that an invocation with an earlier end keeps it as it is (never runs it again, never
-shortens it)."""
+shortens it). A run longer than one machine's session travels in the repository: an
+interrupted run's folder is packed (``pack``) and a fresh clone's invocation unpacks it
+(``unpack``) and continues it from its checkpoint."""
 
 from __future__ import annotations
 
+import tarfile
 from pathlib import Path
 
 import granflow
 from common.runs import FINISHED
-from granflow.io.run_dir import RunDir
+from granflow.io.run_dir import LOCK_FILE, RunDir
 
 STUDY_END = 3.0     # s: the end of rows recorded before they kept their end (``t_end``)
+BED_LENGTH = "geometry.bed_length="
 
 
 def ended(row: dict) -> float:
@@ -24,6 +28,19 @@ def settled(row: dict, t_end: float) -> bool:
     """A finished row needing no more time: at rest, or run to ``t_end`` or later."""
     return row.get("status") == "stopped" or (
         row.get("status") in FINISHED and ended(row) >= t_end - 1e-9)
+
+
+
+def same_run(recorded: list[str], found: list[str]) -> bool:
+    """The recorded overrides are ``found``'s but for a bed at least as long: the layer
+    reaching further beyond a front that never gets there is the same run (a row started
+    before its rigid twin had finished set its bed by the slope, ``overrides``)."""
+    def parts(given: list[str]) -> tuple[list[str], float]:
+        bed = [o for o in given if o.startswith(BED_LENGTH)]
+        return ([o for o in given if o not in bed],
+                float(bed[0].removeprefix(BED_LENGTH)) if bed else 0.0)
+    (rest, length), (rest_found, length_found) = parts(recorded), parts(found)
+    return rest == rest_found and length >= length_found - 1e-12
 
 
 def carried(summary: dict, out: Path, t_end: float) -> dict:
@@ -45,3 +62,27 @@ def with_earlier(row: dict, done: dict | None) -> dict:
         earlier[f"{ended(done):g}"] = {k: v for k, v in done.items()
                                        if k not in ("overrides", "earlier")}
     return row | {"earlier": earlier} if earlier else row
+
+
+def pack(folder: Path, archive: Path) -> None:
+    """The run's folder as it stands (config, checkpoint, records, manifest; not its lock)
+    into the compressed ``archive``, written beside and renamed into place."""
+    archive.parent.mkdir(parents=True, exist_ok=True)
+    part = archive.with_name(archive.name + ".part")
+    with tarfile.open(part, "w:gz") as tar:
+        for path in sorted(folder.rglob("*")):
+            if path.is_file() and path.name != LOCK_FILE:
+                tar.add(path, arcname=str(path.relative_to(folder)))
+    part.replace(archive)
+
+
+def unpack(archive: Path, folder: Path) -> bool:
+    """Restore ``folder`` from ``archive`` when the folder holds no checkpoint (a fresh
+    clone); tarfile's ``data`` filter refuses links, devices and paths leaving the folder.
+    Whether it restored anything."""
+    if not archive.is_file() or (folder / "checkpoint" / "state.npz").is_file():
+        return False
+    folder.mkdir(parents=True, exist_ok=True)
+    with tarfile.open(archive, "r:gz") as tar:
+        tar.extractall(folder, filter="data")
+    return True

@@ -128,3 +128,68 @@ def test_an_end_before_the_studys_is_refused(monkeypatch: pytest.MonkeyPatch,
     with pytest.raises(SystemExit):
         SLOPES.main()
     assert "--t-end must be between the study's 3 s and 60 s, not 2" in capsys.readouterr().err
+
+
+LAYER = (f"{VARIANT}-fine", "rectangle", 0.005, 19.0)     # its layer's length by its twin
+
+
+def bed(overrides: list[str]) -> float:
+    return next(float(o.split("=")[1]) for o in overrides if o.startswith(CARRY.BED_LENGTH))
+
+
+def test_a_longer_bed_is_the_same_run() -> None:
+    slope_bed = SLOPES.overrides(*LAYER, None)           # the twin unfinished: 1.95 m
+    twin_bed = SLOPES.overrides(*LAYER, 1.3)             # 1.3 x 1.3 m = 1.69 m
+    assert (bed(slope_bed), bed(twin_bed)) == pytest.approx((1.95, 1.69))
+    assert CARRY.same_run(slope_bed, twin_bed)
+    assert not CARRY.same_run(twin_bed, slope_bed)       # a shorter bed is another run
+    assert not CARRY.same_run(SLOPES.overrides(*LAYER[:3], 16.0, None), twin_bed)
+
+
+def test_an_interrupted_row_continues_as_it_began(no_runs: list,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    began = SLOPES.overrides(*LAYER, None)
+    used: list = []
+
+    def run_or_continue(scenario: str, overrides: list[str], out: Path) -> dict:
+        used.append(overrides)
+        return {"status": "completed", "t_final": 3.0, "runout_m": 1.5}
+
+    monkeypatch.setattr(SLOPES, "run_or_continue", run_or_continue)
+    done = row("interrupted", 1.2, 1.1) | {"overrides": began}
+    row_ = SLOPES.run(*LAYER, 1.3, Path("folder"), done=done)
+    assert used == [began] and row_["overrides"] == began
+
+
+def _folder(root: Path) -> Path:
+    (root / "checkpoint").mkdir(parents=True)
+    (root / "checkpoint" / "state.npz").write_bytes(b"state")
+    (root / "config.toml").write_text("[time]\nt_end = 3.0\n")
+    (root / ".granflow.lock").write_text("")
+    return root
+
+
+def test_an_interrupted_run_travels_in_an_archive(tmp_path: Path) -> None:
+    archive = tmp_path / "carried" / "variant" / "row.tar.gz"
+    CARRY.pack(_folder(tmp_path / "run"), archive)
+    clone = tmp_path / "clone" / "run"
+    assert CARRY.unpack(archive, clone)
+    assert (clone / "checkpoint" / "state.npz").read_bytes() == b"state"
+    assert (clone / "config.toml").read_text() == "[time]\nt_end = 3.0\n"
+    assert not (clone / ".granflow.lock").exists()          # never another process's lock
+    (clone / "checkpoint" / "state.npz").write_bytes(b"later")
+    assert not CARRY.unpack(archive, clone)                  # a folder's own checkpoint wins
+    assert (clone / "checkpoint" / "state.npz").read_bytes() == b"later"
+    assert not CARRY.unpack(tmp_path / "none.tar.gz", tmp_path / "other")
+
+
+def test_an_archive_leaving_its_folder_is_refused(tmp_path: Path) -> None:
+    import tarfile
+
+    archive = tmp_path / "evil.tar.gz"
+    (tmp_path / "outside").write_text("x")
+    with tarfile.open(archive, "w:gz") as tar:
+        tar.add(tmp_path / "outside", arcname="../escaped")
+    with pytest.raises(tarfile.OutsideDestinationError):
+        CARRY.unpack(archive, tmp_path / "run")
+    assert not (tmp_path / "escaped").exists()
