@@ -15,6 +15,7 @@ HYSTERETIC = [*GLASS_BEADS, "material.friction=hysteretic",
 CHANNEL = ["boundary.bed=no-slip", "material.viscosity=0.01", "boundary.channel_width=0.1"]
 TALLER = "geometry.height=0.145"   # the rectangle's 14 cm and a 5 mm layer's material under it
 FINE = "mesh.size=0.007"           # half the scenario's cells' size
+FINER = "mesh.size=0.0035"         # a quarter: the third mesh of the rigid runout's convergence
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
     # angle), eta = 1 Pa s
@@ -69,9 +70,11 @@ VARIANTS = {
     "drucker-prager-no-slip-small-eta-walls-taller": [*CHANNEL, TALLER],
     "glass-beads-no-slip-small-eta-walls-15cm": [*GLASS_BEADS, *CHANNEL, "geometry.height=0.15"],
     # the 14 and 14.5 cm rigid columns on a mesh twice as fine: how much of their
-    # difference is the mesh's
+    # difference is the mesh's; then the candidate's rows again on that mesh
     "glass-beads-no-slip-small-eta-walls-fine": [*GLASS_BEADS, *CHANNEL, FINE],
     "glass-beads-no-slip-small-eta-walls-taller-fine": [*GLASS_BEADS, *CHANNEL, TALLER, FINE],
+    # the rigid row on a mesh four times as fine: the rigid runout's order of convergence
+    "glass-beads-no-slip-small-eta-walls-finer": [*GLASS_BEADS, *CHANNEL, FINER],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
