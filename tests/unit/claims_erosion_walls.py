@@ -31,6 +31,15 @@ def ratio(layer: str, rigid: str) -> Callable[[Any], float]:
                       / d[f"{rigid.split('/')[0]}/rectangle-{rigid.split('/')[1]}"]["runout_m"])
 
 
+def bed_length(layer: str) -> Callable[[Any], float]:
+    """The length of a layer row's layer (m), from its overrides."""
+    def length(d: Any) -> float:
+        found = d[f"{layer.split('/')[0]}/rectangle-{layer.split('/')[1]}"]["overrides"]
+        return next(float(o.split("=")[1]) for o in found
+                    if o.startswith("geometry.bed_length="))
+    return length
+
+
 def lead(layer: str, rigid: str, t: str | None) -> Callable[[Any], float]:
     """A row's front minus another's at ``t`` (at rest: None), in m."""
     def gain(d: Any) -> float:
@@ -248,4 +257,34 @@ CLAIMS: list[tuple] = [
     *each("a level or 10° gain of {}–{} %",
           (lambda d: min(ratio(f"{B}/{h}", f"{B}/{r}")(d) - 1 for h, r in GAINS), ".1f", 100),
           (lambda d: max(ratio(f"{B}/{h}", f"{B}/{r}")(d) - 1 for h, r in GAINS), ".1f", 100)),
+    # the slopes on the finer mesh
+    *each("| 10° | {} m, at rest at {} s | {} m, at rest at {} s | {} | {} |",
+          (row(f"{B}-fine", "0mm-10", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine", "0mm-10", "stop_time_s"), ".3f", 1),
+          (row(f"{B}-fine", "5mm-10", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine", "5mm-10", "stop_time_s"), ".3f", 1),
+          (ratio(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10"), ".3f", 1),
+          (ratio(f"{B}/5mm-10", f"{B}/0mm-10"), ".3f", 1)),
+    *each("Ratio {} (predicted 0.98–1.03): no change",
+          (ratio(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10"), ".3f", 1)),
+    *each("The rigid twin runs {} % further than on the study's mesh",
+          (lambda d: ratio(f"{B}-fine/0mm-10", f"{B}/0mm-10")(d) - 1, ".1f", 100)),
+    *each("at rest {} s later.",
+          (lambda d: row(f"{B}-fine", "0mm-10", "stop_time_s")(d)
+           - row(B, "0mm-10", "stop_time_s")(d), ".3f", 1)),
+    *each("It leads by +{} and +{} mm at 0.1 and 0.2 s, falls behind by {} and {} mm at 0.3"
+          " and 0.5 s and ends +{} mm (the study's mesh: +{}, {}, {}, +{} mm, then +{} mm at"
+          " rest)",
+          *((lead(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10", t), ".0f", mm) for t in CLOCK4[:2]),
+          *((lead(f"{B}-fine/0mm-10", f"{B}-fine/5mm-10", t), ".0f", mm) for t in CLOCK4[2:]),
+          (lead(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10", None), ".1f", mm),
+          *((lead(f"{B}/5mm-10", f"{B}/0mm-10", t), ".0f", mm) for t in CLOCK4),
+          (lead(f"{B}/5mm-10", f"{B}/0mm-10", None), ".0f", mm)),
+    *each("The layer is {} m long there, the study's mesh's {} m",
+          (bed_length(f"{B}-fine/5mm-10"), "g", 1), (bed_length(f"{B}/5mm-10"), "g", 1)),
+    *each("at 10° over 5 mm {} (the study's mesh {}), the rigid runout +{} %",
+          (ratio(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10"), ".3f", 1),
+          (ratio(f"{B}/5mm-10", f"{B}/0mm-10"), ".3f", 1),
+          (lambda d: ratio(f"{B}-fine/0mm-10", f"{B}/0mm-10")(d) - 1, ".1f", 100),
+          page="docs/verification.md"),
 ]
