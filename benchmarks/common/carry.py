@@ -30,7 +30,6 @@ def settled(row: dict, t_end: float) -> bool:
         row.get("status") in FINISHED and ended(row) >= t_end - 1e-9)
 
 
-
 def same_run(recorded: list[str], found: list[str]) -> bool:
     """The recorded overrides are ``found``'s but for a bed at least as long: the layer
     reaching further beyond a front that never gets there is the same run (a row started
