@@ -16,6 +16,7 @@ CHANNEL = ["boundary.bed=no-slip", "material.viscosity=0.01", "boundary.channel_
 TALLER = "geometry.height=0.145"   # the rectangle's 14 cm and a 5 mm layer's material under it
 FINE = "mesh.size=0.007"           # half the scenario's cells' size
 FINER = "mesh.size=0.0035"         # a quarter: the third mesh of the rigid runout's convergence
+TENSION = ["surface_tension.enabled=true", "surface_tension.length=mesh_size"]   # the layer rows'
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
     # angle), eta = 1 Pa s
@@ -75,6 +76,9 @@ VARIANTS = {
     "glass-beads-no-slip-small-eta-walls-taller-fine": [*GLASS_BEADS, *CHANNEL, TALLER, FINE],
     # the rigid row on a mesh four times as fine: the rigid runout's order of convergence
     "glass-beads-no-slip-small-eta-walls-finer": [*GLASS_BEADS, *CHANNEL, FINER],
+    # rigid rows on the finer mesh with the layer rows' numerical surface tension at the
+    # front (3.8)-(3.11): the 19-degree rigid twin's surface folded at 0.596 s without it
+    "glass-beads-no-slip-small-eta-walls-fine-tension": [*GLASS_BEADS, *CHANNEL, FINE, *TENSION],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
