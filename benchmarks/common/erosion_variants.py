@@ -79,6 +79,8 @@ VARIANTS = {
     # rigid rows on the finer mesh with the layer rows' numerical surface tension at the
     # front (3.8)-(3.11): the 19-degree rigid twin's surface folded at 0.596 s without it
     "glass-beads-no-slip-small-eta-walls-fine-tension": [*GLASS_BEADS, *CHANNEL, FINE, *TENSION],
+    # and on the study's mesh: what the twins' different front treatment did to its ratios
+    "glass-beads-no-slip-small-eta-walls-tension": [*GLASS_BEADS, *CHANNEL, *TENSION],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
