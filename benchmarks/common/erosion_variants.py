@@ -81,6 +81,9 @@ VARIANTS = {
     "glass-beads-no-slip-small-eta-walls-fine-tension": [*GLASS_BEADS, *CHANNEL, FINE, *TENSION],
     # and on the study's mesh: what the twins' different front treatment did to its ratios
     "glass-beads-no-slip-small-eta-walls-tension": [*GLASS_BEADS, *CHANNEL, *TENSION],
+    # and a quarter of the study's cells: the third mesh with the tension
+    "glass-beads-no-slip-small-eta-walls-finer-tension": [*GLASS_BEADS, *CHANNEL, FINER,
+                                                          *TENSION],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
