@@ -215,16 +215,18 @@ def ratio_table(results: dict[str, dict]) -> str:
     """One line per variant, column, layer and resolution, one column per slope: the
     erodible runout (m), its ratio to the rigid bed's and the flow duration (s); a run whose
     front had not settled gives its front at the end, marked still moving, and the ratio
-    marked as ``ratio`` says."""
+    marked as ``ratio`` says. A layer row whose variant has rigid twins with the layer rows'
+    surface tension (VARIANT-tension) has a second line with the ratios against those."""
     slopes = sorted({r["slope"] for r in results.values()})
     lines = ["| variant | column | layer (mm) | cells | "
              + " | ".join(f"{s:g}°" for s in slopes) + " |", "|" + "---|" * (4 + len(slopes))]
     groups: dict[tuple, dict[float, str]] = {}
-    for r in results.values():
-        if r["he"] == 0:
-            continue
+    twins = [(r, r["variant"]) for r in results.values() if r["he"] > 0]
+    twins += [(r, f"{r['variant']}-tension") for r, _ in twins
+              if rigid_key(f"{r['variant']}-tension", r["shape"], r["slope"]) in results]
+    for r, twin in twins:
         x = runout(r)
-        value, bound = ratio(results, r)
+        value, bound = ratio(results, r | {"variant": twin})
         shown = "" if value is None else {
             "": f" ({value:.2f})", "≤": f" (≤ {value:.2f}, rigid moving at t_end)",
             "≥": f" (≥ {value:.2f})", "≈": f" (≈ {value:.2f}, rigid moving too)"}[bound]
@@ -234,7 +236,8 @@ def ratio_table(results: dict[str, dict]) -> str:
         else:
             duration = r.get("duration_s")
             cell = f"{x:.3f}{shown}" + (f", {duration:.2f} s" if duration else "")
-        group = (r["variant"], r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
+        label = r["variant"] + ("" if twin == r["variant"] else f" (rigid: {twin})")
+        group = (label, r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
         groups.setdefault(group, {})[r["slope"]] = cell
     for (variant, shape, he, cells), row in sorted(groups.items()):
         lines.append(f"| {variant} | {shape} | {he:g} | {cells} | "

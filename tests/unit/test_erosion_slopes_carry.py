@@ -193,3 +193,16 @@ def test_an_archive_leaving_its_folder_is_refused(tmp_path: Path) -> None:
     with pytest.raises(tarfile.OutsideDestinationError):
         CARRY.unpack(archive, tmp_path / "run")
     assert not (tmp_path / "escaped").exists()
+
+
+def test_a_layer_row_is_also_taken_against_the_twin_with_the_tension() -> None:
+    where = {"shape": "rectangle", "slope": 10.0, "cells": 2}
+    layer = {"variant": VARIANT, "he": 0.005, "status": "stopped", "runout_m": 0.69} | where
+    rigid = {"variant": VARIANT, "he": 0.0, "status": "stopped", "runout_m": 0.60} | where
+    results = {"layer": layer, SLOPES.rigid_key(VARIANT, "rectangle", 10.0): rigid}
+    assert "(rigid:" not in SLOPES.ratio_table(results)
+    tension = rigid | {"variant": f"{VARIANT}-tension", "runout_m": 0.5}
+    results[SLOPES.rigid_key(f"{VARIANT}-tension", "rectangle", 10.0)] = tension
+    table = SLOPES.ratio_table(results)
+    assert f"| {VARIANT} | rectangle | 5 | 2 | 0.690 (1.15) |" in table
+    assert f"| {VARIANT} (rigid: {VARIANT}-tension) | rectangle | 5 | 2 | 0.690 (1.38) |" in table
