@@ -17,10 +17,11 @@ fresh clone has none). A run interrupted (SIGINT, SIGTERM) is recorded as it sta
 front in time, ``interrupted``) and ends the invocation; its folder is packed into
 OUT/carried/NAME.tar.gz, which a fresh clone's invocation unpacks and continues (a run
 longer than a session travels in the repository; the archive goes once the row is
-finished). ``--t-end T`` carries the study past its 3 s: a row that reached 3 s still
-moving is continued from its checkpoint to T (``granflow resume --set time.t_end=T``; a row
-at rest is kept); each row records the end time it ran to (``t_end``) and, once carried,
-its earlier figures by end time (``earlier``). A row carried further is kept as it is by an
+finished). A failed row's folder is packed too: the same command resumes it as it failed.
+``--t-end T`` carries the study past its 3 s: a row that reached 3 s still moving is
+continued from its checkpoint to T (``granflow resume --set time.t_end=T``; a row at rest
+is kept); each row records the end time it ran to (``t_end``) and, once carried, its
+earlier figures by end time (``earlier``). A row carried further is kept as it is by an
 invocation with an earlier end (the default's): never run again or shortened. OUT/
 erosion_slopes.json holds the summaries' figures, OUT/erosion_slopes.md the table, OUT/
 erosion_slopes.png the ratio against slope, OUT/erosion_slopes_fronts.md each layer row's
@@ -382,13 +383,16 @@ def main() -> None:
                     write_markdown(args.out / "erosion_slopes.md", table(results))
                     write_markdown(args.out / "erosion_slopes_ratios.md", ratio_table(results))
                     write_markdown(args.out / "erosion_slopes_fronts.md", where(results))
-                    if results[name].get("status") == "interrupted":   # SIGINT or SIGTERM
+                    status = results[name].get("status")
+                    if status in ("interrupted", "failed"):   # a failure is resumed as it failed
                         pack(folder, archive)
+                    else:
+                        archive.unlink(missing_ok=True)     # finished: no longer carried
+                    if status == "interrupted":   # SIGINT or SIGTERM
                         print(f"{name} interrupted: the study stops here; the same command "
                               f"continues it from the run's checkpoint (packed into {archive})")
                         figure(results, args.out / "erosion_slopes.png")
                         return
-                    archive.unlink(missing_ok=True)     # finished: no longer carried
     figure(results, args.out / "erosion_slopes.png")
     print(table(results))
 
