@@ -40,6 +40,12 @@ def bed_length(layer: str) -> Callable[[Any], float]:
     return length
 
 
+def front(name: str, t: str) -> Callable[[Any], float]:
+    """A row's front at ``t`` ("variant/name")."""
+    variant, case = name.split("/")
+    return lambda d: d[f"{variant}/rectangle-{case}"]["front_history"][t]
+
+
 def lead(layer: str, rigid: str, t: str | None) -> Callable[[Any], float]:
     """A row's front minus another's at ``t`` (at rest: None), in m."""
     def gain(d: Any) -> float:
@@ -280,11 +286,95 @@ CLAIMS: list[tuple] = [
           (lead(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10", None), ".1f", mm),
           *((lead(f"{B}/5mm-10", f"{B}/0mm-10", t), ".0f", mm) for t in CLOCK4),
           (lead(f"{B}/5mm-10", f"{B}/0mm-10", None), ".0f", mm)),
-    *each("The layer is {} m long there, the study's mesh's {} m",
-          (bed_length(f"{B}-fine/5mm-10"), "g", 1), (bed_length(f"{B}/5mm-10"), "g", 1)),
+    *each("The layer is {} m long at 10° and {} m at 19° there, the study's\nmesh's {} m",
+          (bed_length(f"{B}-fine/5mm-10"), "g", 1), (bed_length(f"{B}-fine/5mm-19"), ".2f", 1),
+          (bed_length(f"{B}/5mm-10"), "g", 1)),
     *each("at 10° over 5 mm {} (the study's mesh {}), the rigid runout +{} %",
           (ratio(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10"), ".3f", 1),
           (ratio(f"{B}/5mm-10", f"{B}/0mm-10"), ".3f", 1),
           (lambda d: ratio(f"{B}-fine/0mm-10", f"{B}/0mm-10")(d) - 1, ".1f", 100),
           page="docs/verification.md"),
+    # the 19-degree row on the finer mesh, and the twins' front treatment
+    *each("| 19° | failed at {} s | {} m, at rest at {} s | - | {} |",
+          (row(f"{B}-fine", "0mm-19", "t_final"), ".3f", 1),
+          (row(f"{B}-fine", "5mm-19", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine", "5mm-19", "stop_time_s"), ".3f", 1),
+          (ratio(f"{B}/5mm-19", f"{B}/0mm-19"), ".3f", 1)),
+    *each("the runouts\n  move by {}, {} and {} mm at 0, 10 and 19° when the cells are halved;"
+          " the rigid\n  rows by +{} and +{} mm at 0 and 10°.",
+          *((lead(f"{B}-fine/5mm-{a}", f"{B}/5mm-{a}", None), "+.1f", mm) for a in (0, 10, 19)),
+          *((lead(f"{B}-fine/0mm-{a}", f"{B}/0mm-{a}", None), ".1f", mm) for a in (0, 10))),
+    *each("({} and {} m at 0.3 and 0.5 s, against {} and {} m; the study's mesh's rigid\n"
+          "  twin: {} and {} m)",
+          *((front(f"{B}-fine/0mm-19", t), ".3f", 1) for t in ("0.3", "0.5")),
+          *((front(f"{B}-fine/5mm-19", t), ".3f", 1) for t in ("0.3", "0.5")),
+          *((front(f"{B}/0mm-19", t), ".3f", 1) for t in ("0.3", "0.5"))),
+    *each("{} remeshes in {} steps", (row(f"{B}-fine", "0mm-19", "remeshes"), ",d", 1),
+          (row(f"{B}-fine", "0mm-19", "steps"), ",d", 1)),
+    *each("The 19° rigid twin failed at {} s.", (row(f"{B}-fine", "0mm-19", "t_final"), ".3f", 1)),
+    *each("The tension shortens the rigid rows by {} to\n  {} mm",
+          (lambda d: min(-lead(f"{B}-tension/0mm-{a}", f"{B}/0mm-{a}", None)(d)
+                         for a in (0, 10, 16)), ".0f", mm),
+          (lambda d: max(-lead(f"{B}-tension/0mm-{a}", f"{B}/0mm-{a}", None)(d)
+                         for a in (0, 10, 16)), ".0f", mm)),
+    *each("| level, study's mesh | {} m | {} m | {} mm |",
+          (row(B, "0mm-0", "runout_m"), ".4f", 1), (row(f"{B}-tension", "0mm-0", "runout_m"),
+                                                   ".4f", 1),
+          (lead(f"{B}-tension/0mm-0", f"{B}/0mm-0", None), ".1f", mm)),
+    *each("| 10°, study's mesh | {} m | {} m | {} mm |",
+          (row(B, "0mm-10", "runout_m"), ".4f", 1),
+          (row(f"{B}-tension", "0mm-10", "runout_m"), ".4f", 1),
+          (lead(f"{B}-tension/0mm-10", f"{B}/0mm-10", None), ".1f", mm)),
+    *each("| 16°, study's mesh | {} m | {} m | {} mm |",
+          (row(B, "0mm-16", "runout_m"), ".4f", 1),
+          (row(f"{B}-tension", "0mm-16", "runout_m"), ".4f", 1),
+          (lead(f"{B}-tension/0mm-16", f"{B}/0mm-16", None), ".1f", mm)),
+    *each("| level, finer mesh | {} m | {} m | {} mm |",
+          (row(f"{B}-fine", "0mm-0", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine-tension", "0mm-0", "runout_m"), ".4f", 1),
+          (lead(f"{B}-fine-tension/0mm-0", f"{B}-fine/0mm-0", None), ".1f", mm)),
+    *each("| 10°, finer mesh | {} m | failed at {} s | - |",
+          (row(f"{B}-fine", "0mm-10", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine-tension", "0mm-10", "t_final"), ".3f", 1)),
+    *each("| 0° | {} ({}) | {} ({}) |",
+          (ratio(f"{B}/5mm-0", f"{B}-tension/0mm-0"), ".3f", 1),
+          (ratio(f"{B}/5mm-0", f"{B}/0mm-0"), ".3f", 1),
+          (ratio(f"{B}-fine/5mm-0", f"{B}-fine-tension/0mm-0"), ".3f", 1),
+          (ratio(f"{B}-fine/5mm-0", f"{B}-fine/0mm-0"), ".3f", 1)),
+    *each("| 10° | {} ({}) | - ({}) |",
+          (ratio(f"{B}/5mm-10", f"{B}-tension/0mm-10"), ".3f", 1),
+          (ratio(f"{B}/5mm-10", f"{B}/0mm-10"), ".3f", 1),
+          (ratio(f"{B}-fine/5mm-10", f"{B}-fine/0mm-10"), ".3f", 1)),
+    *each("| 16° | {} ({}) | - |",
+          (ratio(f"{B}/5mm-16", f"{B}-tension/0mm-16"), ".3f", 1),
+          (ratio(f"{B}/5mm-16", f"{B}/0mm-16"), ".3f", 1)),
+    *each("the rigid runout +{} mm ({} to {} m), the layer row +{} mm.",
+          (lead(f"{B}-fine-tension/0mm-0", f"{B}-tension/0mm-0", None), ".1f", mm),
+          (row(f"{B}-tension", "0mm-0", "runout_m"), ".4f", 1),
+          (row(f"{B}-fine-tension", "0mm-0", "runout_m"), ".4f", 1),
+          (lead(f"{B}-fine/5mm-0", f"{B}/5mm-0", None), ".1f", mm)),
+    *each("with the tension (10° at\n  {} s) or without it (19° at {} s)",
+          (row(f"{B}-fine-tension", "0mm-10", "t_final"), ".3f", 1),
+          (row(f"{B}-fine", "0mm-19", "t_final"), ".3f", 1)),
+    *each("the layer row at 19° is\n  mesh-converged ({} m)",
+          (row(f"{B}-fine", "5mm-19", "runout_m"), ".4f", 1)),
+    *each("at 19° the layer row {} m ({} mm on the study's mesh), its rigid twins failed ({} s;"
+          " with the tension, 10°: {} s, and 19° on the study's mesh: {} s); against rigid"
+          " twins with the layer rows' tension {}"
+          " and {} on the level bed (study's and finer mesh), {} at 10°, {} at 16°",
+          (row(f"{B}-fine", "5mm-19", "runout_m"), ".4f", 1),
+          (lead(f"{B}-fine/5mm-19", f"{B}/5mm-19", None), "+.1f", mm),
+          (row(f"{B}-fine", "0mm-19", "t_final"), ".3f", 1),
+          (row(f"{B}-fine-tension", "0mm-10", "t_final"), ".3f", 1),
+          (row(f"{B}-tension", "0mm-19", "t_final"), ".3f", 1),
+          (ratio(f"{B}/5mm-0", f"{B}-tension/0mm-0"), ".3f", 1),
+          (ratio(f"{B}-fine/5mm-0", f"{B}-fine-tension/0mm-0"), ".3f", 1),
+          (ratio(f"{B}/5mm-10", f"{B}-tension/0mm-10"), ".3f", 1),
+          (ratio(f"{B}/5mm-16", f"{B}-tension/0mm-16"), ".3f", 1),
+          page="docs/verification.md"),
+    *each("| 19°, study's mesh | {} m | failed at {} s | - |",
+          (row(B, "0mm-19", "runout_m"), ".4f", 1),
+          (row(f"{B}-tension", "0mm-19", "t_final"), ".3f", 1)),
+    *each("and at 19° with\n  the tension on the study's mesh too ({} s).",
+          (row(f"{B}-tension", "0mm-19", "t_final"), ".3f", 1)),
 ]
