@@ -1,11 +1,12 @@
 """Diagnosis: a packed run of the erosion study (``OUT/carried/VARIANT/ROW.tar.gz``, an
 interrupted or failed row) resumed in a temporary folder with the deposition's step limit
 logged (section 3.3: the step is cut so that the first free-surface node to reach the bed
-lands on it). For every cut step: the time, the step the controller proposed and the one
-the landing allows, the landing node's height above the bed and its mesh velocity; and
-whether each remesh succeeded. A failing row's cascade (steps falling towards 1e-14 s, the
-mesh velocity of the landing nodes exploding on a mesh the remesher could not replace)
-is read off in seconds.
+lands on it). For every cut step: the step the controller proposed and the one the landing
+allows, the landing node's height above the bed and its mesh velocity; whether each remesh
+succeeded, and at the first that failed the boundary around the foremost vertex (the
+front), which shows what the remesher was given. A failing row's cascade (steps falling
+towards 1e-14 s, the mesh velocity of the landing nodes exploding on a mesh the remesher
+could not replace) is read off in seconds.
 
 Run: python benchmarks/landing_probe.py ARCHIVE [--until T] [--out DIR]
 
@@ -31,17 +32,21 @@ from common.carry import unpack  # noqa: E402
 import granflow  # noqa: E402
 import granflow.ale.column_mover as column_mover  # noqa: E402
 from granflow.ale import deposition  # noqa: E402
+from granflow.ale.free_surface import BoundaryChain  # noqa: E402
+from granflow.ale.remesh import boundary_loop  # noqa: E402
 from granflow.config import load_config  # noqa: E402
 from granflow.io.run_dir import RunDir  # noqa: E402
 from granflow.simulation import simulation  # noqa: E402
 
 TINY = 1e-6   # s: the cut steps printed
+AROUND = 8    # boundary vertices recorded on each side of the front at a failed remesh
 
 
 def probe(folder: Path, until: float) -> dict[str, Any]:
     """Resume the run in ``folder`` to ``until`` with the landing cuts and remeshes logged."""
     cuts: list[dict[str, Any]] = []
     remeshes: list[bool] = []
+    front: list[dict[str, Any]] = []
     limit, remeshed = column_mover.limit_step, simulation.Simulation._remeshed
 
     def logged_limit(xy: np.ndarray, w: np.ndarray, candidates: np.ndarray, dt: float,
@@ -58,6 +63,8 @@ def probe(folder: Path, until: float) -> dict[str, Any]:
     def logged_remesh(self: simulation.Simulation) -> bool:
         done = remeshed(self)
         remeshes.append(done)
+        if not done and not front and self.mesh_motion is not None:
+            front.extend(around_front(self.mesh_motion.mesh))
         return done
 
     column_mover.limit_step = logged_limit   # type: ignore[assignment]
@@ -72,7 +79,18 @@ def probe(folder: Path, until: float) -> dict[str, Any]:
     summary = RunDir.summary(folder)
     return {"status": summary.get("status"), "message": summary.get("message"),
             "t_final": summary.get("t_final"), "cut_steps": cuts,
-            "remeshes": len(remeshes), "remesh_failures": remeshes.count(False)}
+            "remeshes": len(remeshes), "remesh_failures": remeshes.count(False),
+            "front_at_failed_remesh": front}
+
+
+def around_front(mesh: Any) -> list[dict[str, Any]]:
+    """The boundary loop's vertices around its foremost one: label of the edge leaving
+    each, x and the height z (m)."""
+    loop, labels = boundary_loop(BoundaryChain(mesh))
+    xy = mesh.ngmesh.Coordinates()[loop]
+    tip = int(np.argmax(xy[:, 0]))
+    return [{"label": labels[i % len(loop)], "x_m": float(xy[i % len(loop), 0]),
+             "z_m": float(xy[i % len(loop), 1])} for i in range(tip - AROUND, tip + AROUND + 1)]
 
 
 def main() -> None:
@@ -94,6 +112,8 @@ def main() -> None:
     print(f"{record['status']} at t = {record['t_final']:.6g} s: {record['message']}")
     print(f"{len(record['cut_steps'])} steps cut by a landing; remeshes {record['remeshes']}, "
           f"failed {record['remesh_failures']}")
+    for vertex in record["front_at_failed_remesh"]:
+        print(f"  {vertex['label']:8s} x = {vertex['x_m']:.6f} m, z = {vertex['z_m']:.3e} m")
     for cut in record["cut_steps"]:
         if cut["allowed_s"] < TINY:
             print(f"  proposed {cut['proposed_s']:.3g} s, allowed {cut['allowed_s']:.3g} s: "
