@@ -377,4 +377,27 @@ CLAIMS: list[tuple] = [
           (row(f"{B}-tension", "0mm-19", "t_final"), ".3f", 1)),
     *each("and at 19° with\n  the tension on the study's mesh too ({} s).",
           (row(f"{B}-tension", "0mm-19", "t_final"), ".3f", 1)),
+    *each("rigid {} m, over 5 mm {} m, the\n  fronts' ratio {}.",
+          (front(f"{B}-finer-tension/0mm-0", "0.5"), ".4f", 1),
+          (front(f"{B}-finer/5mm-0", "0.5"), ".4f", 1),
+          (lambda d: front(f"{B}-finer/5mm-0", "0.5")(d)
+           / front(f"{B}-finer-tension/0mm-0", "0.5")(d), ".3f", 1)),
+    *each("Each halving of the cells adds +{} and then +{} mm to the rigid\n  row",
+          (lead(f"{B}-fine-tension/0mm-0", f"{B}-tension/0mm-0", None), ".1f", mm),
+          (lambda d: front(f"{B}-finer-tension/0mm-0", "0.5")(d)
+           - row(f"{B}-fine-tension", "0mm-0", "runout_m")(d), ".1f", mm)),
+    *each("The layer row moves by +{} and +{} mm.\n  With no slip",
+          (lead(f"{B}-fine/5mm-0", f"{B}/5mm-0", None), ".1f", mm),
+          (lambda d: front(f"{B}-finer/5mm-0", "0.5")(d)
+           - row(f"{B}-fine", "5mm-0", "runout_m")(d), ".1f", mm)),
+    *each("(on the finer one it failed\n  at {} s)",
+          (row(f"{B}-fine-tension", "0mm-19", "t_final"), ".3f", 1)),
+    *each("interrupted at {} and {} s and\n  carried",
+          (row(f"{B}-finer-tension", "0mm-0", "t_final"), ".2f", 1),
+          (row(f"{B}-finer", "5mm-0", "t_final"), ".2f", 1)),
+    *each("rigid runout has no mesh limit (+{} and +{} mm at each halving of the cells",
+          (lead(f"{B}-fine-tension/0mm-0", f"{B}-tension/0mm-0", None), ".1f", mm),
+          (lambda d: front(f"{B}-finer-tension/0mm-0", "0.5")(d)
+           - row(f"{B}-fine-tension", "0mm-0", "runout_m")(d), ".1f", mm),
+          page="docs/verification.md"),
 ]
