@@ -16,7 +16,7 @@ overrides (or a longer bed, ``common/carry.same_run``) is kept without its run f
 fresh clone has none). A run interrupted (SIGINT, SIGTERM) is recorded as it stands (its
 front in time, ``interrupted``) and ends the invocation; its folder is packed into
 OUT/carried/NAME.tar.gz, which a fresh clone's invocation unpacks and continues (a run
-longer than a session travels in the repository; the archive goes once the row is
+outliving its machine travels in the repository; the archive goes once the row is
 finished). A failed row's folder is packed too: the same command resumes it as it failed.
 ``--t-end T`` carries the study past its 3 s: a row that reached 3 s still moving is
 continued from its checkpoint to T (``granflow resume --set time.t_end=T``; a row at rest

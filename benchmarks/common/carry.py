@@ -2,7 +2,7 @@
 its end still moving is continued from its checkpoint (``granflow.resume`` with a later
 ``time.t_end``); a row records the end it ran to and keeps its figures at the earlier ends,
 so that an invocation with an earlier end keeps it as it is (never runs it again, never
-shortens it). A run longer than one machine's session travels in the repository: an
+shortens it). A run that outlives the machine it started on travels in the repository: an
 interrupted run's folder is packed (``pack``) and a fresh clone's invocation unpacks it
 (``unpack``) and continues it from its checkpoint."""
 
