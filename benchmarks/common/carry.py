@@ -17,6 +17,7 @@ from granflow.io.run_dir import LOCK_FILE, RunDir
 
 STUDY_END = 3.0     # s: the end of rows recorded before they kept their end (``t_end``)
 BED_LENGTH = "geometry.bed_length="
+OUTPUTS = ("frames", "plots", "profiles")   # a run folder's outputs, not packed
 
 
 def ended(row: dict) -> float:
@@ -64,15 +65,24 @@ def with_earlier(row: dict, done: dict | None) -> dict:
 
 
 def pack(folder: Path, archive: Path) -> None:
-    """The run's folder as it stands (config, checkpoint, records, manifest; not its lock)
-    into the compressed ``archive``, written beside and renamed into place."""
+    """What a resume needs of the run's folder (its config, checkpoint, records and
+    manifest; not its lock, nor the outputs written so far: the frames, profiles, plots and
+    VTK fields stay with the machine that wrote them) into the compressed ``archive``,
+    written beside and renamed into place."""
     archive.parent.mkdir(parents=True, exist_ok=True)
     part = archive.with_name(archive.name + ".part")
     with tarfile.open(part, "w:gz") as tar:
         for path in sorted(folder.rglob("*")):
-            if path.is_file() and path.name != LOCK_FILE:
-                tar.add(path, arcname=str(path.relative_to(folder)))
+            relative = path.relative_to(folder)
+            if path.is_file() and resume_needs(relative):
+                tar.add(path, arcname=str(relative))
     part.replace(archive)
+
+
+def resume_needs(relative: Path) -> bool:
+    """Whether a file of a run folder (its path inside it) is packed."""
+    return (relative.name != LOCK_FILE and relative.suffix != ".vtu"
+            and relative.parts[0] not in OUTPUTS)
 
 
 def unpack(archive: Path, folder: Path) -> bool:

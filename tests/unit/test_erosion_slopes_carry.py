@@ -166,6 +166,10 @@ def _folder(root: Path) -> Path:
     (root / "checkpoint" / "state.npz").write_bytes(b"state")
     (root / "config.toml").write_text("[time]\nt_end = 3.0\n")
     (root / ".granflow.lock").write_text("")
+    (root / "frames").mkdir()
+    (root / "frames" / "frame_00000.npz").write_bytes(b"frame")
+    (root / "fields").mkdir()
+    (root / "fields" / "fields_00000.vtu").write_text("<VTKFile/>")
     return root
 
 
@@ -177,6 +181,7 @@ def test_an_interrupted_run_travels_in_an_archive(tmp_path: Path) -> None:
     assert (clone / "checkpoint" / "state.npz").read_bytes() == b"state"
     assert (clone / "config.toml").read_text() == "[time]\nt_end = 3.0\n"
     assert not (clone / ".granflow.lock").exists()          # never another process's lock
+    assert not (clone / "frames").exists() and not (clone / "fields").exists()   # outputs
     (clone / "checkpoint" / "state.npz").write_bytes(b"later")
     assert not CARRY.unpack(archive, clone)                  # a folder's own checkpoint wins
     assert (clone / "checkpoint" / "state.npz").read_bytes() == b"later"
