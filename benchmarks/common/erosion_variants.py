@@ -84,6 +84,16 @@ VARIANTS = {
     # and a quarter of the study's cells: the third mesh with the tension
     "glass-beads-no-slip-small-eta-walls-finer-tension": [*GLASS_BEADS, *CHANNEL, FINER,
                                                           *TENSION],
+    # the rough bed's candidates that slide, the study's set-up otherwise (the beads, eta /
+    # 100, the 10 cm channel), level rigid rows on three meshes: which bed's rigid runout
+    # has a mesh limit, and which limit is the paper's model's (whose own three meshes are
+    # drucker-prager, -fine, -finer): the Coulomb bed at 25.5 deg, the beads' own law
+    **{f"glass-beads-{bed}-small-eta-walls{mesh}": [
+        *GLASS_BEADS, f"boundary.bed={bed}", *CHANNEL[1:], *extra]
+       for bed in ("coulomb", "material")
+       for mesh, extra in (("", []), ("-fine", [FINE]), ("-finer", [FINER]))},
+    "drucker-prager-fine": [FINE],
+    "drucker-prager-finer": [FINER],
 }
 RIGID_TWIN = {"loose-layer": "drucker-prager"}   # only the layer differs: same rigid bed
 # how far the layer reaches, in rigid runouts: further where the layer may lengthen the
