@@ -92,6 +92,11 @@ VARIANTS = {
         *GLASS_BEADS, f"boundary.bed={bed}", *CHANNEL[1:], *extra]
        for bed in ("coulomb", "material")
        for mesh, extra in (("", []), ("-fine", [FINE]), ("-finer", [FINER]))},
+    # the material bed's rigid twins with the layer rows' front treatment, two meshes
+    "glass-beads-material-small-eta-walls-tension": [
+        *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], *TENSION],
+    "glass-beads-material-small-eta-walls-fine-tension": [
+        *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], FINE, *TENSION],
     "drucker-prager-fine": [FINE],
     "drucker-prager-finer": [FINER],
 }
@@ -103,4 +108,6 @@ REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta":
 # a layer of a fixed length (m), so that it need not wait for its rigid twin: 3 m is twice
 # the furthest front of the rows without walls at 0-19 degrees (1.46 m at 3 s)
 LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0,
-          "drucker-prager-no-slip-small-eta-walls": 3.0}
+          "drucker-prager-no-slip-small-eta-walls": 3.0,
+          "glass-beads-material-small-eta-walls": 3.0,
+          "glass-beads-material-small-eta-walls-fine": 3.0}
