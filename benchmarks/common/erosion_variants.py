@@ -92,9 +92,11 @@ VARIANTS = {
         *GLASS_BEADS, f"boundary.bed={bed}", *CHANNEL[1:], *extra]
        for bed in ("coulomb", "material")
        for mesh, extra in (("", []), ("-fine", [FINE]), ("-finer", [FINER]))},
-    # the material bed's rigid twins with the layer rows' front treatment, two meshes
+    # the sliding beds' rigid twins with the layer rows' front treatment
     "glass-beads-material-small-eta-walls-tension": [
         *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], *TENSION],
+    "glass-beads-coulomb-small-eta-walls-tension": [
+        *GLASS_BEADS, "boundary.bed=coulomb", *CHANNEL[1:], *TENSION],
     "glass-beads-material-small-eta-walls-fine-tension": [
         *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], FINE, *TENSION],
     "drucker-prager-fine": [FINE],
@@ -110,4 +112,5 @@ REACH = {"glass-beads-no-slip-small-eta": 2.0, "glass-beads-material-small-eta":
 LENGTH = {"glass-beads-no-slip-small-eta-walls": 3.0,
           "drucker-prager-no-slip-small-eta-walls": 3.0,
           "glass-beads-material-small-eta-walls": 3.0,
-          "glass-beads-material-small-eta-walls-fine": 3.0}
+          "glass-beads-material-small-eta-walls-fine": 3.0,
+          "glass-beads-coulomb-small-eta-walls": 3.0}
