@@ -211,3 +211,20 @@ def test_a_layer_row_is_also_taken_against_the_twin_with_the_tension() -> None:
     table = SLOPES.ratio_table(results)
     assert f"| {VARIANT} | rectangle | 5 | 2 | 0.690 (1.15) |" in table
     assert f"| {VARIANT} (rigid: {VARIANT}-tension) | rectangle | 5 | 2 | 0.690 (1.38) |" in table
+
+
+@pytest.mark.filterwarnings("ignore::granflow.config.schema.ConfigNote")   # mu-i's 25.5 deg
+@pytest.mark.parametrize("variant", sorted(sys.modules["common.erosion_variants"].VARIANTS))
+def test_every_variant_is_a_valid_configuration(variant: str) -> None:
+    """Each of the study's variants loads, rigid and over 5 mm at 19 degrees, with the
+    bed it names (a misspelt key or value would fail a row hours into the study)."""
+    from granflow.config import load_config
+
+    for he in (0.0, 0.005):
+        config = load_config(SLOPES.SCENARIO["rectangle"],
+                             SLOPES.overrides(variant, "rectangle", he, 19.0, 1.0))
+        assert config.geometry.slope_deg == 19.0
+        assert config.geometry.erodible_thickness == he
+        named = [o.split("=")[1] for o in SLOPES.VARIANTS[variant]
+                 if o.startswith("boundary.bed=")]
+        assert config.boundary.bed == (named[-1] if named else "coulomb")
