@@ -56,7 +56,6 @@ from common.carry import (  # noqa: E402
     BED_LENGTH,
     STUDY_END,
     carried,
-    ended,
     pack,
     same_run,
     settled,
@@ -70,6 +69,15 @@ from common.erosion import (  # noqa: E402
     front_speed_end,
     fronts_table,
     layer_destination,
+)
+from common.erosion_ratio import (  # noqa: E402
+    CELLS,
+    at_1mm,
+    front,
+    key,
+    ratio,
+    rigid_key,
+    runout,
 )
 from common.erosion_variants import (  # noqa: E402
     LENGTH,
@@ -88,14 +96,13 @@ ERODIBLE = ["numerics.mesh_velocity=elastic", "surface_tension.enabled=true",
             "mesh.layer_ahead=0.1",   # benchmarks/layer_ahead.py
             "numerics.anderson_depth=3",   # as trapezoid-erodible
             "surface_tension.length=mesh_size"]   # the study's rows: the tension of their time
-CELLS = 2   # across the layer, unless --cells says otherwise
 T_END = STUDY_END   # s: the study's end; --t-end carries rows further (``common/carry.py``)
 COMMON = ["boundary.normal_load=reaction", f"time.t_end={T_END}", "output.checkpoint_every=100",
           "mesh.adaptive=false"]   # every row ran on the uniform mesh
 KEYS = ["status", "t_final", "steps", "wall_time_s", "n_triangles", "remeshes",
         "stop_time_s", "front_stop_time_s", "runout_m", "column_front_m",
         "layer_displaced_area_m2", "layer_mobilised_area_max_m2", "erosion_depth_max_m",
-        "layer_area_drift_max"]
+        "layer_area_drift_max", "runout_1mm_m"]
 
 
 def overrides(variant: str, shape: str, he: float, slope: float,
@@ -147,44 +154,6 @@ def row_of(summary: dict, out: Path) -> dict:
         out, grain, config["geometry"]["width"], summary.get("column_front_m"))
 
 
-def runout(row: dict) -> float | None:
-    """The runout once the front is at rest (None while it still moves, or if it failed)."""
-    settled = row.get("status") == "stopped" or (
-        row.get("status") == "completed" and row.get("front_stop_time_s") is not None)
-    return row.get("runout_m") if settled else None
-
-
-def front(row: dict) -> float | None:
-    """The front at t_end of a run that reached it still moving (None otherwise)."""
-    return row.get("runout_m") if row.get("status") == "completed" else None
-
-
-def ratio(results: dict[str, dict], row: dict) -> tuple[float | None, str]:
-    """The erodible row's runout over its rigid twin's, and what it is: "" both settled;
-    "≤" an upper bound, the rigid front still moving at t_end (it only goes further); "≥" a
-    lower bound, the erodible front still moving; "≈" both moving, their fronts at t_end (at
-    the earlier end of the two, from the other's ``front_history``, where they ran to
-    different ends). None for a rigid row or one that failed."""
-    rigid = results.get(rigid_key(row["variant"], row["shape"], row["slope"]), {})
-    x, x0 = runout(row), runout(rigid)
-    if row["he"] == 0:
-        return None, ""
-    if x is not None:
-        if x0:
-            return x / x0, ""
-        return (x / front(rigid), "≤") if front(rigid) else (None, "")
-    if front(row) is None:
-        return None, ""
-    if x0:
-        return front(row) / x0, "≥"
-    if not front(rigid):
-        return None, ""
-    end = min(ended(row), ended(rigid))
-    mine, theirs = (front(r) if ended(r) == end else r.get("front_history", {}).get(f"{end:g}")
-                    for r in (row, rigid))
-    return (mine / theirs, "≈") if mine and theirs else (None, "")
-
-
 def table(results: dict[str, dict]) -> str:
     head = ["variant", "shape", "slope (deg)", "layer (mm)", "cells", "runout (m)",
             "ratio to rigid",
@@ -217,7 +186,9 @@ def ratio_table(results: dict[str, dict]) -> str:
     erodible runout (m), its ratio to the rigid bed's and the flow duration (s); a run whose
     front had not settled gives its front at the end, marked still moving, and the ratio
     marked as ``ratio`` says. A layer row whose variant has rigid twins with the layer rows'
-    surface tension (VARIANT-tension) has a second line with the ratios against those."""
+    surface tension (VARIANT-tension) has a second line with the ratios against those;
+    where the twins' records read their front 1 mm above the bed (``runout_1mm_m``, the
+    layer rows' measure), a line with those ratios follows each."""
     slopes = sorted({r["slope"] for r in results.values()})
     lines = ["| variant | column | layer (mm) | cells | "
              + " | ".join(f"{s:g}°" for s in slopes) + " |", "|" + "---|" * (4 + len(slopes))]
@@ -225,9 +196,12 @@ def ratio_table(results: dict[str, dict]) -> str:
     twins = [(r, r["variant"]) for r in results.values() if r["he"] > 0]
     twins += [(r, f"{r['variant']}-tension") for r, _ in twins
               if rigid_key(f"{r['variant']}-tension", r["shape"], r["slope"]) in results]
-    for r, twin in twins:
+    measured = [(r, twin, False) for r, twin in twins] + [
+        (r, twin, True) for r, twin in twins
+        if at_1mm(results.get(rigid_key(twin, r["shape"], r["slope"]), {}))]
+    for r, twin, thick in measured:
         x = runout(r)
-        value, bound = ratio(results, r | {"variant": twin})
+        value, bound = ratio(results, r | {"variant": twin}, thick)
         shown = "" if value is None else {
             "": f" ({value:.2f})", "≤": f" (≤ {value:.2f}, rigid moving at t_end)",
             "≥": f" (≥ {value:.2f})", "≈": f" (≈ {value:.2f}, rigid moving too)"}[bound]
@@ -237,7 +211,8 @@ def ratio_table(results: dict[str, dict]) -> str:
         else:
             duration = r.get("duration_s")
             cell = f"{x:.3f}{shown}" + (f", {duration:.2f} s" if duration else "")
-        label = r["variant"] + ("" if twin == r["variant"] else f" (rigid: {twin})")
+        rigid = ("" if twin == r["variant"] else twin) + (", at 1 mm" if thick else "")
+        label = r["variant"] + (f" (rigid: {rigid.lstrip(', ')})" if rigid else "")
         group = (label, r["shape"], 1e3 * r["he"], r.get("cells", CELLS))
         groups.setdefault(group, {})[r["slope"]] = cell
     for (variant, shape, he, cells), row in sorted(groups.items()):
@@ -320,17 +295,6 @@ def where(results: dict[str, dict]) -> str:
             + fronts_table(pairs, CLOCK + tuple(later))
             + "\n## Where the displaced layer material went, at the end\n\n"
             + destination_table(rows))
-
-
-def key(variant: str, shape: str, he: float, slope: float, cells: int = CELLS) -> str:
-    """The run's name (and folder): a layer of other than two cells says how many."""
-    tail = f"-{cells}cells" if he > 0 and cells != CELLS else ""
-    return f"{variant}/{shape}-{1e3 * he:g}mm-{slope:g}{tail}"
-
-
-def rigid_key(variant: str, shape: str, slope: float) -> str:
-    """The rigid-bed run a variant's ratio is taken against."""
-    return key(RIGID_TWIN.get(variant, variant), shape, 0.0, slope)
 
 
 def main() -> None:

@@ -228,3 +228,18 @@ def test_every_variant_is_a_valid_configuration(variant: str) -> None:
         named = [o.split("=")[1] for o in SLOPES.VARIANTS[variant]
                  if o.startswith("boundary.bed=")]
         assert config.boundary.bed == (named[-1] if named else "coulomb")
+
+
+def test_a_rigid_twin_is_also_read_at_the_layer_rows_front() -> None:
+    """A layer row's front stands 1 mm above the layer; a rigid twin whose record reads its
+    front 1 mm above the bed gives a line with that ratio too, its thin tongue left out."""
+    where = {"shape": "rectangle", "slope": 19.0, "cells": 2}
+    layer = {"variant": VARIANT, "he": 0.005, "status": "stopped", "runout_m": 1.40} | where
+    rigid = {"variant": VARIANT, "he": 0.0, "status": "stopped", "runout_m": 1.75} | where
+    results = {"layer": layer, SLOPES.rigid_key(VARIANT, "rectangle", 19.0): rigid}
+    assert "at 1 mm" not in SLOPES.ratio_table(results)
+    rigid["runout_1mm_m"] = 1.40 / 0.9
+    table = SLOPES.ratio_table(results)
+    assert f"| {VARIANT} | rectangle | 5 | 2 | 1.400 (0.80) |" in table
+    assert f"| {VARIANT} (rigid: at 1 mm) | rectangle | 5 | 2 | 1.400 (0.90) |" in table
+    assert SLOPES.ratio(results, layer, thick=True) == (pytest.approx(0.9), "")
