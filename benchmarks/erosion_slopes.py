@@ -332,7 +332,9 @@ def main() -> None:
                         summary = collected(folder)
                         if summary is None:
                             continue
-                        row = with_earlier(row_of(summary, folder), results.get(name))
+                        kept = results.get(name) or {}      # its overrides stay its own
+                        row = with_earlier(row_of(summary, folder), kept) | {
+                            k: v for k, v in kept.items() if k == "overrides"}
                     else:
                         if unpack(archive, folder):
                             print(f"{name}: continued from {archive}")

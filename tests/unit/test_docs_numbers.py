@@ -2075,6 +2075,13 @@ assert _WALLS_SPEC is not None and _WALLS_SPEC.loader is not None
 _WALLS_CLAIMS = importlib.util.module_from_spec(_WALLS_SPEC)
 _WALLS_SPEC.loader.exec_module(_WALLS_CLAIMS)
 CLAIMS += _WALLS_CLAIMS.CLAIMS
+# the sliding beds, the paper's model on two meshes, the rigid twins' fronts at 1 mm
+_BEDS_SPEC = importlib.util.spec_from_file_location(
+    "claims_erosion_beds", Path(__file__).with_name("claims_erosion_beds.py"))
+assert _BEDS_SPEC is not None and _BEDS_SPEC.loader is not None
+_BEDS_CLAIMS = importlib.util.module_from_spec(_BEDS_SPEC)
+_BEDS_SPEC.loader.exec_module(_BEDS_CLAIMS)
+CLAIMS += _BEDS_CLAIMS.CLAIMS
 
 
 def lookup(data: Any, path: Path_) -> Any:
