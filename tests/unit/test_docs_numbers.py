@@ -2068,20 +2068,21 @@ CLAIMS: list[tuple[str, str, str, Path_, str, float]] = [
                 - d["flat"]["trapezoid-glass-beads-no-slip-eta0.01"]["stop_time_s"]),
      ".2f", 1),
 ]
+
+
+def _claims_of(name: str) -> list[tuple]:
+    """The CLAIMS of the sibling module ``name``.py (the erosion studies' claims)."""
+    spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name(f"{name}.py"))
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.CLAIMS
+
+
 # the side-walls study carried to rest, the thickness at 19 degrees, the level gain's checks
-_WALLS_SPEC = importlib.util.spec_from_file_location(
-    "claims_erosion_walls", Path(__file__).with_name("claims_erosion_walls.py"))
-assert _WALLS_SPEC is not None and _WALLS_SPEC.loader is not None
-_WALLS_CLAIMS = importlib.util.module_from_spec(_WALLS_SPEC)
-_WALLS_SPEC.loader.exec_module(_WALLS_CLAIMS)
-CLAIMS += _WALLS_CLAIMS.CLAIMS
+CLAIMS += _claims_of("claims_erosion_walls")
 # the sliding beds, the paper's model on two meshes, the rigid twins' fronts at 1 mm
-_BEDS_SPEC = importlib.util.spec_from_file_location(
-    "claims_erosion_beds", Path(__file__).with_name("claims_erosion_beds.py"))
-assert _BEDS_SPEC is not None and _BEDS_SPEC.loader is not None
-_BEDS_CLAIMS = importlib.util.module_from_spec(_BEDS_SPEC)
-_BEDS_SPEC.loader.exec_module(_BEDS_CLAIMS)
-CLAIMS += _BEDS_CLAIMS.CLAIMS
+CLAIMS += _claims_of("claims_erosion_beds")
 
 
 def lookup(data: Any, path: Path_) -> Any:
