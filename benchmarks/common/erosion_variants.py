@@ -17,6 +17,13 @@ TALLER = "geometry.height=0.145"   # the rectangle's 14 cm and a 5 mm layer's ma
 FINE = "mesh.size=0.007"           # half the scenario's cells' size
 FINER = "mesh.size=0.0035"         # a quarter: the third mesh of the rigid runout's convergence
 TENSION = ["surface_tension.enabled=true", "surface_tension.length=mesh_size"]   # the layer rows'
+
+
+def sliding(bed: str, *extra: str) -> list[str]:
+    """The candidate's set-up (the beads, eta / 100, the walls) on a bed that slides."""
+    return [*GLASS_BEADS, f"boundary.bed={bed}", *CHANNEL[1:], *extra]
+
+
 VARIANTS = {
     # the paper's constants: internal and bed friction 25.5 deg (the beads' avalanche
     # angle), eta = 1 Pa s
@@ -88,17 +95,13 @@ VARIANTS = {
     # 100, the 10 cm channel), level rigid rows on three meshes: which bed's rigid runout
     # has a mesh limit, and which limit is the paper's model's (whose own three meshes are
     # drucker-prager, -fine, -finer): the Coulomb bed at 25.5 deg, the beads' own law
-    **{f"glass-beads-{bed}-small-eta-walls{mesh}": [
-        *GLASS_BEADS, f"boundary.bed={bed}", *CHANNEL[1:], *extra]
+    **{f"glass-beads-{bed}-small-eta-walls{mesh}": sliding(bed, *extra)
        for bed in ("coulomb", "material")
        for mesh, extra in (("", []), ("-fine", [FINE]), ("-finer", [FINER]))},
     # the sliding beds' rigid twins with the layer rows' front treatment
-    "glass-beads-material-small-eta-walls-tension": [
-        *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], *TENSION],
-    "glass-beads-coulomb-small-eta-walls-tension": [
-        *GLASS_BEADS, "boundary.bed=coulomb", *CHANNEL[1:], *TENSION],
-    "glass-beads-material-small-eta-walls-fine-tension": [
-        *GLASS_BEADS, "boundary.bed=material", *CHANNEL[1:], FINE, *TENSION],
+    "glass-beads-material-small-eta-walls-tension": sliding("material", *TENSION),
+    "glass-beads-coulomb-small-eta-walls-tension": sliding("coulomb", *TENSION),
+    "glass-beads-material-small-eta-walls-fine-tension": sliding("material", FINE, *TENSION),
     "drucker-prager-fine": [FINE],
     "drucker-prager-finer": [FINER],
 }
